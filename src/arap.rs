@@ -1,0 +1,561 @@
+//! Two-step as-rigid-as-possible deformation (Igarashi & Igarashi 2009, sections 4–6) as a
+//! life cycle of types:
+//!
+//! ```text
+//! Mesh ──register──▶ Rest ──compile(handles)──▶ Pinned ──update(targets)──▶ positions
+//! ```
+//!
+//! * **register** ([`Rest::register`]): per-edge fit rows (equation 3, on rest coordinates
+//!   centred on their neighbourhood), the edge-term normal matrices `L1ᴴL1` (step 1, complex)
+//!   and `L2ᵀL2` (step 2, real), their AMD orderings and symbolic factorisations.
+//! * **compile** ([`Rest::compile`]): locates the handles (section 5), adds their rows
+//!   `C1ᴴC1`, `C2ᵀC2` and factorises `A1ᴴA1` and `A2ᵀA2` numerically (section 6).
+//! * **update** ([`Pinned::update`]): right-hand sides, two back-substitutions and a rotation
+//!   fit per edge; nothing is allocated or factorised.
+//!
+//! Step 1 (equations 4–5) is complex-linear: the similarity `T_k = [[c, s], [−s, c]]` of
+//! equation 2 acts on a point `z = x + iy` as multiplication by `t = c − is`, so the 2n×2n
+//! real system with 2×2 blocks `[[a, −b], [b, a]]` is the n×n Hermitian system solved here.
+//!
+//! Departures from the paper (DESIGN.md conventions): the fit uses neighbourhood coordinates
+//! minus their centroid, which makes it translation-invariant; step 2 normalises `T'_k` by
+//! `1/√(c² + s²)` (the transcription's `1/(c² + s²)` is not a rotation); a connected
+//! component with fewer than two handles is moved rigidly instead of solved (convention 8).
+
+use std::sync::Arc;
+
+use num_complex::Complex64 as C64;
+use sprs::TriMat;
+
+use crate::error::{check_finite, Error, Result};
+use crate::locate::{barycentric, Location, Locator, BOUNDARY_TOLERANCE};
+use crate::mesh::{cross, dot, sub, Mesh};
+use crate::solver::{Factor, Pattern, Symbolic};
+
+/// How the rows of each edge are weighted (section 6, "multiply each row of A and b").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EdgeWeights {
+    /// Every edge weighs 1: good for evenly triangulated meshes.
+    #[default]
+    Uniform,
+    /// `ω = ½(cot ∠ilj + cot ∠irj)` (one term on a boundary edge), the paper's
+    /// recommendation for uneven meshes. Rows are multiplied by `ω`, so the energy weighs
+    /// `ω² ≥ 0` and a negative cotangent (an obtuse opposite angle) needs no clamping. An
+    /// edge whose `|ω|` falls below [`MIN_COTANGENT_WEIGHT`] (opposite angles summing to
+    /// about 180°) keeps that magnitude, so that no edge drops out of the energy and the
+    /// normal matrices stay positive definite.
+    Cotangent,
+}
+
+/// The smallest magnitude an edge's cotangent weight keeps; see [`EdgeWeights::Cotangent`].
+pub const MIN_COTANGENT_WEIGHT: f64 = 1e-3;
+
+/// Registration options.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Edge weighting. Default: uniform.
+    pub weights: EdgeWeights,
+    /// `w`, the multiplier of the handle rows (the energy weighs `w²`). Default 1000
+    /// (section 4.1). Must be finite and positive.
+    pub handle_weight: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { weights: EdgeWeights::Uniform, handle_weight: 1000.0 }
+    }
+}
+
+/// Where a handle sits on the rest shape.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Handle {
+    /// A rest-space point, located in the triangle that holds it (on a shared edge or
+    /// vertex, any holding triangle gives the same rows).
+    Point([f64; 2]),
+    /// A mesh vertex.
+    Vertex(u32),
+    /// Barycentric weights in a triangle, in the order of [`Mesh::triangles`] (which is
+    /// counter-clockwise: a clockwise input triangle has its last two vertices swapped).
+    /// Weights must be finite, non-negative and sum to 1 (to 10⁻⁹).
+    Barycentric {
+        /// The triangle.
+        triangle: u32,
+        /// Its vertices' weights.
+        weights: [f64; 3],
+    },
+}
+
+/// The rows of one edge `k = (i, j)`: its neighbourhood `N(e_k) = [i, j, l, r]` (3 vertices
+/// on the boundary) and the coefficients of the fit `t_k = Σ_m fit[m] · z'[verts[m]]`
+/// (equation 3 solved: `(GᵀG)⁻¹Gᵀ` with `GᵀG = Σ|q|² I` for centred `q`).
+#[derive(Debug, Clone, Copy)]
+struct Stencil {
+    verts: [u32; 4],
+    len: usize,
+    fit: [C64; 4],
+    /// The rest edge vector `e_k = v_j − v_i` as a complex number.
+    edge: C64,
+    /// The row multiplier `ω`.
+    weight: f64,
+}
+
+impl Stencil {
+    /// Builds the rows of an edge from its neighbourhood's rest coordinates (`local[0]` is
+    /// `i`, `local[1]` is `j`), in any frame: only differences of `local` matter.
+    fn new(verts: [u32; 4], local: [[f64; 2]; 4], len: usize, weight: f64) -> Stencil {
+        let mut centroid = [0.0; 2];
+        for p in &local[..len] {
+            centroid[0] += p[0] / len as f64;
+            centroid[1] += p[1] / len as f64;
+        }
+        let q: Vec<C64> =
+            local[..len].iter().map(|p| C64::new(p[0] - centroid[0], p[1] - centroid[1])).collect();
+        let norm: f64 = q.iter().map(|z| z.norm_sqr()).sum();
+        let mut fit = [C64::new(0.0, 0.0); 4];
+        for (m, z) in q.iter().enumerate() {
+            fit[m] = z.conj() / norm;
+        }
+        let edge = C64::new(local[1][0] - local[0][0], local[1][1] - local[0][1]);
+        Stencil { verts, len, fit, edge, weight }
+    }
+
+    /// The step-1 row (equation 4, times `ω`): `ω (z'_j − z'_i − e_k t_k)` as coefficients
+    /// of the neighbourhood's unknowns.
+    fn step1_row(&self) -> [C64; 4] {
+        let mut h = [C64::new(0.0, 0.0); 4];
+        for m in 0..self.len {
+            h[m] = -self.edge * self.fit[m];
+        }
+        h[0] -= 1.0;
+        h[1] += 1.0;
+        h.map(|x| x * self.weight)
+    }
+
+    /// `t_k` fitted to the positions `z`.
+    #[inline]
+    fn fit(&self, z: &[C64]) -> C64 {
+        let mut t = C64::new(0.0, 0.0);
+        for m in 0..self.len {
+            t += self.fit[m] * z[self.verts[m] as usize];
+        }
+        t
+    }
+}
+
+#[derive(Debug)]
+struct RestData {
+    mesh: Mesh,
+    locator: Locator,
+    options: Options,
+    stencils: Vec<Stencil>,
+    step1: Symbolic,
+    step1_values: Vec<C64>,
+    step2: Symbolic,
+    step2_values: Vec<f64>,
+}
+
+/// A registered rest shape: everything that depends on the mesh alone. Cheap to clone
+/// (shared); it can only be compiled.
+#[derive(Debug, Clone)]
+pub struct Rest(Arc<RestData>);
+
+impl Rest {
+    /// Registers `mesh` (section 6, "registration"). Errors: [`Error::BadOption`] for a
+    /// handle weight that is not finite and positive, [`Error::Factorization`] if ordering
+    /// fails. Cost: O(edges) assembly plus the AMD ordering and symbolic factorisations.
+    pub fn register(mesh: Mesh, options: Options) -> Result<Rest> {
+        check_options(&options)?;
+        let stencils = mesh
+            .edges()
+            .iter()
+            .map(|e| {
+                let (l, r) = (e.l, e.r);
+                let mut verts = [e.i, e.j, 0, 0];
+                let mut len = 2;
+                for v in [l, r].into_iter().flatten() {
+                    verts[len] = v;
+                    len += 1;
+                }
+                let local = verts.map(|v| mesh.vertices()[v as usize]);
+                let weight = match options.weights {
+                    EdgeWeights::Uniform => 1.0,
+                    EdgeWeights::Cotangent => cotangent_weight(&mesh, e.i, e.j, l, r),
+                };
+                Stencil::new(verts, local, len, weight)
+            })
+            .collect();
+        Rest::from_stencils(mesh, options, stencils)
+    }
+
+    fn from_stencils(mesh: Mesh, options: Options, stencils: Vec<Stencil>) -> Result<Rest> {
+        let n = mesh.vertices().len();
+        // L1ᴴL1: the upper triangle of Σ_k h_kᴴ h_k over the step-1 rows h_k.
+        let mut t1 = TriMat::with_capacity((n, n), 10 * stencils.len());
+        // L2ᵀL2: the weighted graph Laplacian of the rows ω (z_j − z_i).
+        let mut t2 = TriMat::with_capacity((n, n), 3 * stencils.len());
+        for s in &stencils {
+            let h = s.step1_row();
+            for p in 0..s.len {
+                for q in 0..s.len {
+                    let (r, c) = (s.verts[p] as usize, s.verts[q] as usize);
+                    if r <= c {
+                        t1.add_triplet(r, c, h[p].conj() * h[q]);
+                    }
+                }
+            }
+            let (i, j, w2) = (s.verts[0] as usize, s.verts[1] as usize, s.weight * s.weight);
+            t2.add_triplet(i, i, w2);
+            t2.add_triplet(j, j, w2);
+            t2.add_triplet(i, j, -w2);
+        }
+        let (step1, step1_values) = symbolic_from(n, t1)?;
+        let (step2, step2_values) = symbolic_from(n, t2)?;
+        let locator = Locator::new(&mesh);
+        Ok(Rest(Arc::new(RestData {
+            mesh,
+            locator,
+            options,
+            stencils,
+            step1,
+            step1_values,
+            step2,
+            step2_values,
+        })))
+    }
+
+    /// The rest mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.0.mesh
+    }
+
+    /// The options it was registered with.
+    pub fn options(&self) -> Options {
+        self.0.options
+    }
+
+    /// The number of stored entries in the Cholesky factors of steps 1 and 2.
+    pub fn factor_sizes(&self) -> (usize, usize) {
+        (self.0.step1.factor_nnz(), self.0.step2.factor_nnz())
+    }
+
+    /// Locates a rest-space point: its triangle and barycentric weights, or `None` outside
+    /// the shape.
+    pub fn locate(&self, p: [f64; 2]) -> Option<Location> {
+        self.0.locator.locate(&self.0.mesh, p)
+    }
+
+    /// Compiles a handle set (section 6, "compilation"): locates every handle, adds the
+    /// handle rows `w·(barycentric weights)` and factorises both normal matrices.
+    ///
+    /// Errors: [`Error::HandleOutside`], [`Error::BadHandle`], [`Error::NonFinite`],
+    /// [`Error::CoincidentHandles`] (closer than 10⁻⁹ of the shape's diameter), all naming
+    /// the handle. Zero handles, or a component with fewer than two, are allowed
+    /// (convention 8).
+    pub fn compile(&self, handles: &[Handle]) -> Result<Pinned> {
+        let rest = &self.0;
+        let mesh = &rest.mesh;
+        let locations: Vec<Location> =
+            handles.iter().enumerate().map(|(k, h)| resolve_handle(rest, k, h)).collect::<Result<_>>()?;
+        let points: Vec<[f64; 2]> =
+            locations.iter().map(|l| mesh.point_at(l.triangle as usize, l.weights)).collect();
+        let tolerance = BOUNDARY_TOLERANCE * mesh.diameter();
+        for a in 0..points.len() {
+            for b in a + 1..points.len() {
+                let d = sub(points[a], points[b]);
+                if dot(d, d).sqrt() <= tolerance {
+                    return Err(Error::CoincidentHandles { first: a, second: b });
+                }
+            }
+        }
+
+        // Convention 8, per connected component.
+        let mut per_component = vec![Vec::new(); mesh.component_count()];
+        for (k, l) in locations.iter().enumerate() {
+            let v = mesh.triangles()[l.triangle as usize][0];
+            per_component[mesh.component_of()[v as usize] as usize].push(k);
+        }
+        let motion: Vec<Motion> = per_component
+            .iter()
+            .map(|hs| match hs.len() {
+                0 => Motion::Rest,
+                1 => Motion::Translate(hs[0]),
+                _ => Motion::Solve,
+            })
+            .collect();
+
+        let w2 = rest.options.handle_weight * rest.options.handle_weight;
+        let mut v1 = rest.step1_values.clone();
+        let mut v2 = rest.step2_values.clone();
+        for l in &locations {
+            let tri = mesh.triangles()[l.triangle as usize];
+            for p in 0..3 {
+                for q in 0..3 {
+                    let (r, c) = (tri[p] as usize, tri[q] as usize);
+                    if r <= c {
+                        let value = w2 * l.weights[p] * l.weights[q];
+                        v1[slot(&rest.step1, r, c)] += value;
+                        v2[slot(&rest.step2, r, c)] += value;
+                    }
+                }
+            }
+        }
+        // Vertices that are not solved get identity rows (their components do not couple
+        // with any other), so the pattern and its symbolic factorisation stay valid.
+        for (v, &c) in mesh.component_of().iter().enumerate() {
+            if motion[c as usize] != Motion::Solve {
+                for (k, row) in rest.step1.pattern().column(v) {
+                    v1[k] = C64::new(if row == v { 1.0 } else { 0.0 }, 0.0);
+                }
+                for (k, row) in rest.step2.pattern().column(v) {
+                    v2[k] = if row == v { 1.0 } else { 0.0 };
+                }
+            }
+        }
+        let factor1 = Factor::new(&rest.step1, &v1, 1)?;
+        let factor2 = Factor::new(&rest.step2, &v2, 2)?;
+        let n = mesh.vertices().len();
+        let vertex_motion = mesh.component_of().iter().map(|&c| motion[c as usize]).collect();
+        Ok(Pinned {
+            rest: self.clone(),
+            locations,
+            points,
+            vertex_motion,
+            factor1,
+            factor2,
+            z1: vec![C64::new(0.0, 0.0); n],
+            xy: vec![0.0; 2 * n],
+            positions: mesh.vertices().to_vec(),
+        })
+    }
+}
+
+fn check_options(options: &Options) -> Result<()> {
+    let w = options.handle_weight;
+    if !(w.is_finite() && w > 0.0) {
+        return Err(Error::BadOption {
+            name: "handleWeight",
+            reason: format!("{w} is not a finite positive number"),
+        });
+    }
+    Ok(())
+}
+
+fn symbolic_from<T: Clone + std::ops::Add<Output = T>>(n: usize, t: TriMat<T>) -> Result<(Symbolic, Vec<T>)> {
+    let csc: sprs::CsMat<T> = t.to_csc();
+    let (indptr, indices, data) = csc.into_raw_storage();
+    Ok((Symbolic::new(Pattern::new(n, indptr, indices))?, data))
+}
+
+fn slot(symbolic: &Symbolic, r: usize, c: usize) -> usize {
+    // Handle rows couple the vertices of one triangle, which its edges already couple.
+    symbolic.pattern().slot(r, c).expect("triangle vertex pairs are in the edge pattern")
+}
+
+/// `½(cot ∠ilj + cot ∠irj)`, floored in magnitude at [`MIN_COTANGENT_WEIGHT`].
+fn cotangent_weight(mesh: &Mesh, i: u32, j: u32, l: Option<u32>, r: Option<u32>) -> f64 {
+    let p = |v: u32| mesh.vertices()[v as usize];
+    let cot = |o: u32| {
+        let (a, b) = (sub(p(i), p(o)), sub(p(j), p(o)));
+        dot(a, b) / cross(a, b).abs()
+    };
+    let w = 0.5 * [l, r].into_iter().flatten().map(cot).sum::<f64>();
+    if w.abs() < MIN_COTANGENT_WEIGHT {
+        MIN_COTANGENT_WEIGHT.copysign(if w == 0.0 { 1.0 } else { w })
+    } else {
+        w
+    }
+}
+
+fn resolve_handle(rest: &RestData, k: usize, handle: &Handle) -> Result<Location> {
+    let mesh = &rest.mesh;
+    let bad = |reason: String| Error::BadHandle { handle: k, reason };
+    match *handle {
+        Handle::Point(p) => {
+            check_finite("handles", &[p]).map_err(|_| Error::NonFinite {
+                what: "handles",
+                index: k,
+                value: if p[0].is_finite() { p[1] } else { p[0] },
+            })?;
+            rest.locator.locate(mesh, p).ok_or(Error::HandleOutside { handle: k, point: p })
+        }
+        Handle::Vertex(v) => {
+            let n = mesh.vertices().len();
+            if v as usize >= n {
+                return Err(bad(format!("vertex {v} is out of range (there are {n} vertices)")));
+            }
+            // The first triangle that uses the vertex, with weight 1 on it.
+            let (t, tri) = mesh
+                .triangles()
+                .iter()
+                .enumerate()
+                .find(|(_, tri)| tri.contains(&v))
+                .expect("a validated mesh uses every vertex");
+            let weights = tri.map(|u| if u == v { 1.0 } else { 0.0 });
+            Ok(Location { triangle: t as u32, weights })
+        }
+        Handle::Barycentric { triangle, weights } => {
+            let t = mesh.triangles().len();
+            if triangle as usize >= t {
+                return Err(bad(format!("triangle {triangle} is out of range (there are {t} triangles)")));
+            }
+            if weights.iter().any(|w| !w.is_finite()) {
+                return Err(bad(format!("barycentric weights {weights:?} are not finite")));
+            }
+            let sum: f64 = weights.iter().sum();
+            if weights.iter().any(|&w| w < -1e-12) || (sum - 1.0).abs() > 1e-9 {
+                return Err(bad(format!(
+                    "barycentric weights {weights:?} must be non-negative and sum to 1 (they sum to {sum})"
+                )));
+            }
+            Ok(Location { triangle, weights: weights.map(|w| w.max(0.0) / sum) })
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Motion {
+    /// A component with two or more handles: solved.
+    Solve,
+    /// A component with no handle: stays at rest.
+    Rest,
+    /// A component with one handle (its index): translated with it.
+    Translate(usize),
+}
+
+/// A compiled handle set on a [`Rest`] shape, with both numeric factorisations and every
+/// buffer an update needs. It can only be updated; compile the [`Rest`] again (see
+/// [`Pinned::rest`]) for another handle set.
+#[derive(Debug)]
+pub struct Pinned {
+    rest: Rest,
+    locations: Vec<Location>,
+    points: Vec<[f64; 2]>,
+    vertex_motion: Vec<Motion>,
+    factor1: Factor<C64>,
+    factor2: Factor<f64>,
+    z1: Vec<C64>,
+    xy: Vec<f64>,
+    positions: Vec<[f64; 2]>,
+}
+
+impl Pinned {
+    /// The rest shape this handle set was compiled on.
+    pub fn rest(&self) -> &Rest {
+        &self.rest
+    }
+
+    /// The number of handles.
+    pub fn handle_count(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Where each handle was located: triangle and barycentric weights.
+    pub fn locations(&self) -> &[Location] {
+        &self.locations
+    }
+
+    /// Each handle's rest-space point (the targets that leave the shape at rest).
+    pub fn handle_points(&self) -> &[[f64; 2]] {
+        &self.points
+    }
+
+    /// The positions computed by the last update (the rest shape before the first).
+    pub fn positions(&self) -> &[[f64; 2]] {
+        &self.positions
+    }
+
+    /// Moves the handles to `targets` (same order as compiled) and returns the deformed
+    /// positions, one per vertex (section 6, "interactive update"): step 1 (equation 5), a
+    /// rotation fit per edge (equation 6, normalised), step 2 (equation 7). Only
+    /// back-substitutions; no allocation. The result depends on `targets` alone, not on
+    /// earlier updates (convention 6).
+    ///
+    /// Errors (the puppet is unchanged): [`Error::CountMismatch`], [`Error::NonFinite`].
+    pub fn update(&mut self, targets: &[[f64; 2]]) -> Result<&[[f64; 2]]> {
+        self.check_targets(targets)?;
+        self.solve(targets);
+        Ok(&self.positions)
+    }
+
+    /// [`Pinned::update`] writing into `out` (one point per vertex).
+    pub fn update_into(&mut self, targets: &[[f64; 2]], out: &mut [[f64; 2]]) -> Result<()> {
+        if out.len() != self.positions.len() {
+            return Err(Error::CountMismatch {
+                what: "output points",
+                got: out.len(),
+                expected: self.positions.len(),
+            });
+        }
+        self.update(targets)?;
+        out.copy_from_slice(&self.positions);
+        Ok(())
+    }
+
+    fn check_targets(&self, targets: &[[f64; 2]]) -> Result<()> {
+        if targets.len() != self.points.len() {
+            return Err(Error::CountMismatch {
+                what: "targets",
+                got: targets.len(),
+                expected: self.points.len(),
+            });
+        }
+        check_finite("targets", targets)
+    }
+
+    fn solve(&mut self, targets: &[[f64; 2]]) {
+        let rest = &self.rest.0;
+        let mesh = &rest.mesh;
+        let n = mesh.vertices().len();
+        let w2 = rest.options.handle_weight * rest.options.handle_weight;
+
+        // Step 1: A1ᴴA1 z' = A1ᴴb1, where b1 is zero on edge rows and w·target on handles.
+        self.z1.fill(C64::new(0.0, 0.0));
+        for (l, t) in self.locations.iter().zip(targets) {
+            let tri = mesh.triangles()[l.triangle as usize];
+            for k in 0..3 {
+                self.z1[tri[k] as usize] += C64::new(t[0], t[1]) * (w2 * l.weights[k]);
+            }
+        }
+        self.factor1.solve_in_place(&rest.step1, &mut self.z1);
+
+        // Rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
+        self.xy.fill(0.0);
+        let (x, y) = self.xy.split_at_mut(n);
+        for s in &rest.stencils {
+            let t = s.fit(&self.z1);
+            let norm = t.norm();
+            let rotation = if norm > 0.0 && norm.is_finite() { t / norm } else { C64::new(1.0, 0.0) };
+            let b = rotation * s.edge * (s.weight * s.weight);
+            let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
+            x[j] += b.re;
+            y[j] += b.im;
+            x[i] -= b.re;
+            y[i] -= b.im;
+        }
+        for (l, t) in self.locations.iter().zip(targets) {
+            let tri = mesh.triangles()[l.triangle as usize];
+            for k in 0..3 {
+                x[tri[k] as usize] += w2 * l.weights[k] * t[0];
+                y[tri[k] as usize] += w2 * l.weights[k] * t[1];
+            }
+        }
+        self.factor2.solve_in_place(&rest.step2, &mut self.xy);
+
+        let (x, y) = self.xy.split_at(n);
+        for (v, p) in self.positions.iter_mut().enumerate() {
+            *p = match self.vertex_motion[v] {
+                Motion::Solve => [x[v], y[v]],
+                Motion::Rest => mesh.vertices()[v],
+                Motion::Translate(h) => {
+                    let (r, t, q) = (mesh.vertices()[v], targets[h], self.points[h]);
+                    [r[0] + t[0] - q[0], r[1] + t[1] - q[1]]
+                }
+            };
+        }
+    }
+}
+
+/// Barycentric coordinates of `p` in triangle `t` of `mesh` (exact on vertices).
+pub fn barycentric_in(mesh: &Mesh, t: usize, p: [f64; 2]) -> [f64; 3] {
+    barycentric(mesh.triangles()[t].map(|v| mesh.vertices()[v as usize]), p)
+}

@@ -1,0 +1,184 @@
+//! The crate's one error type: every public entry point returns [`Error`], and every
+//! variant carries the offending index or value so that a message can name it.
+
+use std::fmt;
+
+/// Everything that can go wrong in bunraku. Nothing in the public API panics on bad
+/// input; it returns one of these instead and leaves earlier state untouched.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// A flat coordinate or index array whose length is not a multiple of its stride.
+    BadLength {
+        /// What the array holds (`"vertices"`, `"triangles"`, `"handles"`, …).
+        what: &'static str,
+        /// Its length.
+        len: usize,
+        /// The stride or exact length it must have.
+        expected: String,
+    },
+    /// A coordinate that is NaN or infinite.
+    NonFinite {
+        /// What the array holds.
+        what: &'static str,
+        /// The index of the offending item (vertex, handle, target).
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The mesh has no triangle.
+    EmptyMesh,
+    /// A triangle refers to a vertex that does not exist.
+    IndexOutOfRange {
+        /// The triangle.
+        triangle: usize,
+        /// The vertex index it names.
+        index: u32,
+        /// The number of vertices.
+        vertex_count: usize,
+    },
+    /// A triangle that repeats a vertex, has (near) zero area, or is a sliver whose
+    /// smallest angle is below about 10⁻¹⁰ radians.
+    DegenerateTriangle {
+        /// The triangle.
+        triangle: usize,
+        /// Its twice-signed area.
+        doubled_area: f64,
+    },
+    /// Two triangles with the same three vertices.
+    DuplicateTriangle {
+        /// The first triangle.
+        first: usize,
+        /// The repeat.
+        second: usize,
+    },
+    /// An edge shared by more than two triangles.
+    NonManifoldEdge {
+        /// Smaller vertex index of the edge.
+        i: u32,
+        /// Larger vertex index of the edge.
+        j: u32,
+        /// How many triangles share it.
+        triangles: usize,
+    },
+    /// Two triangles on the same side of their shared edge: the mesh folds over itself.
+    FoldedEdge {
+        /// Smaller vertex index of the edge.
+        i: u32,
+        /// Larger vertex index of the edge.
+        j: u32,
+    },
+    /// A vertex that no triangle uses.
+    UnusedVertex {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// An option out of its range.
+    BadOption {
+        /// The option's name.
+        name: &'static str,
+        /// Why.
+        reason: String,
+    },
+    /// A handle point that lies outside every triangle.
+    HandleOutside {
+        /// The handle.
+        handle: usize,
+        /// Its rest-space point.
+        point: [f64; 2],
+    },
+    /// A handle given by vertex or barycentric coordinates that is out of range.
+    BadHandle {
+        /// The handle.
+        handle: usize,
+        /// Why.
+        reason: String,
+    },
+    /// Two handles at the same rest-space point.
+    CoincidentHandles {
+        /// The first handle.
+        first: usize,
+        /// The second handle.
+        second: usize,
+    },
+    /// The wrong number of targets for the compiled handles, or an output buffer of the
+    /// wrong size.
+    CountMismatch {
+        /// What was counted.
+        what: &'static str,
+        /// How many were given.
+        got: usize,
+        /// How many are needed.
+        expected: usize,
+    },
+    /// The sparse factorisation failed (the matrix is not numerically positive definite).
+    Factorization(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::BadLength { what, len, expected } => {
+                write!(f, "{what}: length {len} is not {expected}")
+            }
+            Error::NonFinite { what, index, value } => {
+                write!(f, "{what}: item {index} has a non-finite coordinate ({value})")
+            }
+            Error::EmptyMesh => write!(f, "the mesh has no triangle"),
+            Error::IndexOutOfRange { triangle, index, vertex_count } => write!(
+                f,
+                "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
+            ),
+            Error::DegenerateTriangle { triangle, doubled_area } => {
+                write!(f, "triangle {triangle} is degenerate (twice its area is {doubled_area:e})")
+            }
+            Error::DuplicateTriangle { first, second } => {
+                write!(f, "triangle {second} repeats triangle {first}")
+            }
+            Error::NonManifoldEdge { i, j, triangles } => {
+                write!(f, "edge ({i}, {j}) is shared by {triangles} triangles; at most 2 are allowed")
+            }
+            Error::FoldedEdge { i, j } => write!(
+                f,
+                "the two triangles of edge ({i}, {j}) lie on the same side of it: the mesh folds over itself"
+            ),
+            Error::UnusedVertex { vertex } => write!(f, "vertex {vertex} is used by no triangle"),
+            Error::BadOption { name, reason } => write!(f, "option {name}: {reason}"),
+            Error::HandleOutside { handle, point } => {
+                write!(f, "handle {handle} at ({}, {}) lies outside the shape", point[0], point[1])
+            }
+            Error::BadHandle { handle, reason } => write!(f, "handle {handle}: {reason}"),
+            Error::CoincidentHandles { first, second } => {
+                write!(f, "handles {first} and {second} are at the same point")
+            }
+            Error::CountMismatch { what, got, expected } => {
+                write!(f, "{what}: got {got}, expected {expected}")
+            }
+            Error::Factorization(why) => write!(f, "factorisation failed: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Shorthand for results in this crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that every coordinate of `points` is finite, naming the first bad item.
+pub(crate) fn check_finite(what: &'static str, points: &[[f64; 2]]) -> Result<()> {
+    for (index, p) in points.iter().enumerate() {
+        for &value in p {
+            if !value.is_finite() {
+                return Err(Error::NonFinite { what, index, value });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reinterprets a flat `[x0, y0, x1, y1, …]` slice as points, checking its length.
+pub fn points_from_flat(what: &'static str, flat: &[f64]) -> Result<Vec<[f64; 2]>> {
+    if flat.len() % 2 != 0 {
+        return Err(Error::BadLength { what, len: flat.len(), expected: "a multiple of 2".into() });
+    }
+    Ok(flat.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+}

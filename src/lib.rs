@@ -1,0 +1,39 @@
+//! # bunraku
+//!
+//! As-rigid-as-possible puppeteering of 2D shapes: register a triangle mesh, compile a set
+//! of handles placed anywhere on it, and update the shape for every drag of the handles
+//! with back-substitutions only (T. Igarashi and Y. Igarashi, "Implementing
+//! As-Rigid-As-Possible Shape Manipulation and Surface Flattening", jgt 14(1), 2009).
+//!
+//! ```
+//! use bunraku::{Handle, Mesh, Options, Rest};
+//!
+//! // A unit square made of two triangles.
+//! let mesh = Mesh::new(
+//!     vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+//!     vec![[0, 1, 2], [0, 2, 3]],
+//! )?;
+//! let rest = Rest::register(mesh, Options::default())?;
+//! let mut pinned = rest.compile(&[Handle::Point([0.0, 0.0]), Handle::Point([1.0, 1.0])])?;
+//! // Translate both handles by (2, 3): the square follows rigidly.
+//! let out = pinned.update(&[[2.0, 3.0], [3.0, 4.0]])?;
+//! assert!((out[2][0] - 3.0).abs() < 1e-9 && (out[2][1] - 4.0).abs() < 1e-9);
+//! # Ok::<(), bunraku::Error>(())
+//! ```
+//!
+//! The core is plain Rust; [`wasm`] (only on `wasm32`) is the JavaScript binding.
+
+#![warn(missing_docs)]
+
+pub mod arap;
+pub mod error;
+pub mod locate;
+pub mod mesh;
+mod solver;
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
+
+pub use arap::{EdgeWeights, Handle, Options, Pinned, Rest};
+pub use error::{Error, Result};
+pub use locate::Location;
+pub use mesh::{Edge, Mesh};
