@@ -1,0 +1,151 @@
+//! The wasm API end to end, run by `wasm-pack test --node`.
+#![cfg(target_arch = "wasm32")]
+
+use bunraku::wasm::Puppet;
+use js_sys::{Float64Array, Object, Reflect};
+use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen_test::*;
+
+/// A 4×3 grid of unit squares, two triangles each.
+fn grid() -> (Vec<f64>, Vec<u32>) {
+    let (nx, ny) = (4u32, 3u32);
+    let mut v = vec![];
+    for y in 0..=ny {
+        for x in 0..=nx {
+            v.extend([x as f64, y as f64]);
+        }
+    }
+    let id = |x: u32, y: u32| y * (nx + 1) + x;
+    let mut t = vec![];
+    for y in 0..ny {
+        for x in 0..nx {
+            t.extend([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    (v, t)
+}
+
+fn message(e: wasm_bindgen::JsError) -> String {
+    let v: JsValue = e.into();
+    let err: &js_sys::Error = v.dyn_ref().expect("a JS Error");
+    err.message().into()
+}
+
+fn f64s(v: &[f64]) -> JsValue {
+    Float64Array::from(v).into()
+}
+
+fn options(pairs: &[(&str, JsValue)]) -> JsValue {
+    let o = Object::new();
+    for (k, v) in pairs {
+        Reflect::set(&o, &(*k).into(), v).unwrap();
+    }
+    o.into()
+}
+
+#[wasm_bindgen_test]
+fn register_compile_update_rigid() {
+    let (v, t) = grid();
+    for weights in ["uniform", "cotangent"] {
+        let mut p = Puppet::register(&v, &t, options(&[("weights", weights.into())])).unwrap();
+        assert_eq!(p.vertex_count(), 20);
+        assert_eq!(p.triangle_count(), 24);
+        assert_eq!(p.weights(), weights);
+        let handles = [0.5, 0.5, 3.5, 0.5, 2.0, 2.5];
+        p.compile(&handles).unwrap();
+        assert_eq!(p.handle_count(), 3);
+        assert_eq!(p.handles().to_vec(), handles.to_vec());
+        // A rotation by 90° and a translation far from the origin.
+        let m = |x: f64, y: f64| [-y + 1000.0, x - 500.0];
+        let targets: Vec<f64> = handles.chunks(2).flat_map(|c| m(c[0], c[1])).collect();
+        let out = p.update(f64s(&targets)).unwrap().to_vec();
+        assert_eq!(out.len(), 40);
+        for (k, c) in v.chunks(2).enumerate() {
+            let e = m(c[0], c[1]);
+            assert!((out[2 * k] - e[0]).abs() < 1e-5 && (out[2 * k + 1] - e[1]).abs() < 1e-5, "vertex {k}");
+        }
+        // updateInto writes the same numbers into the caller's array.
+        let buf = Float64Array::new_with_length(40);
+        p.update_into(f64s(&targets), &buf).unwrap();
+        assert_eq!(buf.to_vec(), out);
+        assert_eq!(p.positions().to_vec(), out);
+    }
+}
+
+#[wasm_bindgen_test]
+fn untouched_handles_return_rest_and_uncompiled_is_rest() {
+    let (v, t) = grid();
+    let mut p = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
+    assert_eq!(p.update(f64s(&[])).unwrap().to_vec(), v);
+    p.compile(&[0.2, 0.2, 3.9, 2.9]).unwrap();
+    let out = p.update(p.handles().into()).unwrap().to_vec();
+    for (a, b) in out.iter().zip(&v) {
+        assert!((a - b).abs() < 1e-9);
+    }
+}
+
+#[wasm_bindgen_test]
+fn bad_register_input_names_the_item() {
+    let (v, t) = grid();
+    let mut bad = v.clone();
+    bad[7] = f64::NAN;
+    let e = message(Puppet::register(&bad, &t, JsValue::UNDEFINED).err().unwrap());
+    assert!(e.contains("item 3") && e.contains("NaN"), "{e}");
+    let mut bad = t.clone();
+    bad[5] = 99;
+    let e = message(Puppet::register(&v, &bad, JsValue::UNDEFINED).err().unwrap());
+    assert!(e.contains("triangle 1") && e.contains("99"), "{e}");
+    let e = message(Puppet::register(&v[..39], &t, JsValue::UNDEFINED).err().unwrap());
+    assert!(e.contains("vertices") && e.contains("39"), "{e}");
+    let e = message(Puppet::register(&v, &t[..70], JsValue::UNDEFINED).err().unwrap());
+    assert!(e.contains("triangles") && e.contains("70"), "{e}");
+    let e = message(Puppet::register(&v, &t, options(&[("handleWeight", (-1.0).into())])).err().unwrap());
+    assert!(e.contains("handleWeight") && e.contains("-1"), "{e}");
+    let e = message(Puppet::register(&v, &t, options(&[("weights", "harmonic".into())])).err().unwrap());
+    assert!(e.contains("harmonic"), "{e}");
+    let e = message(Puppet::register(&v, &t, options(&[("handleWieght", 5.0.into())])).err().unwrap());
+    assert!(e.contains("handleWieght"), "{e}");
+}
+
+#[wasm_bindgen_test]
+fn failed_calls_leave_the_puppet_as_it_was() {
+    let (v, t) = grid();
+    let mut p = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
+    p.compile(&[0.5, 0.5, 3.5, 2.5]).unwrap();
+    let targets = f64s(&[0.0, 0.0, 4.0, 3.0]);
+    let before = p.update(targets.clone()).unwrap().to_vec();
+
+    let e = message(p.compile(&[0.5, 0.5, 9.0, 9.0]).err().unwrap());
+    assert!(e.contains("handle 1") && e.contains("outside"), "{e}");
+    let e = message(p.compile(&[0.5, 0.5, 0.5, 0.5]).err().unwrap());
+    assert!(e.contains("handles 0 and 1"), "{e}");
+    let e = message(p.compile(&[0.5, 0.5, 0.5]).err().unwrap());
+    assert!(e.contains("handles") && e.contains('3'), "{e}");
+    let e = message(p.compile(&[0.5, f64::INFINITY]).err().unwrap());
+    assert!(e.contains("handle"), "{e}");
+    let e = message(p.compile_vertices(&[0, 20]).err().unwrap());
+    assert!(e.contains("handle 1") && e.contains("20"), "{e}");
+
+    let e = message(p.update(f64s(&[0.0, 0.0])).err().unwrap());
+    assert!(e.contains("targets") && e.contains("got 2") && e.contains("expected 4"), "{e}");
+    let e = message(p.update(f64s(&[0.0, 0.0, f64::NAN, 3.0])).err().unwrap());
+    assert!(e.contains("item 1"), "{e}");
+    let e = message(p.update(JsValue::from_str("nope")).err().unwrap());
+    assert!(e.contains("Float64Array"), "{e}");
+    let e = message(p.update_into(targets.clone(), &Float64Array::new_with_length(3)).err().unwrap());
+    assert!(e.contains("output length") && e.contains("got 3"), "{e}");
+
+    assert_eq!(p.handle_count(), 2);
+    assert_eq!(p.update(targets).unwrap().to_vec(), before);
+}
+
+#[wasm_bindgen_test]
+fn vertex_handles_equal_point_handles_on_vertices() {
+    let (v, t) = grid();
+    let mut a = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
+    let mut b = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
+    a.compile_vertices(&[0, 19, 7]).unwrap();
+    b.compile(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0]).unwrap();
+    let targets = f64s(&[-1.0, 0.0, 5.0, 4.0, 2.5, 0.5]);
+    assert_eq!(a.update(targets.clone()).unwrap().to_vec(), b.update(targets).unwrap().to_vec());
+}
