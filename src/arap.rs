@@ -30,7 +30,7 @@ use sprs::TriMat;
 use crate::error::{check_finite, Error, Result};
 use crate::locate::{barycentric, Location, Locator, BOUNDARY_TOLERANCE};
 use crate::mesh::{cross, dot, sub, Mesh};
-use crate::solver::{Factor, Pattern, Symbolic};
+use crate::solver::{Factor, Pair, Pattern, Symbolic};
 
 /// How the rows of each edge are weighted (section 6, "multiply each row of A and b").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -123,8 +123,8 @@ impl Stencil {
     /// of the neighbourhood's unknowns.
     fn step1_row(&self) -> [C64; 4] {
         let mut h = [C64::new(0.0, 0.0); 4];
-        for m in 0..self.len {
-            h[m] = -self.edge * self.fit[m];
+        for (h, fit) in h.iter_mut().zip(&self.fit).take(self.len) {
+            *h = -self.edge * fit;
         }
         h[0] -= 1.0;
         h[1] += 1.0;
@@ -206,7 +206,7 @@ impl Rest {
             let (i, j, w2) = (s.verts[0] as usize, s.verts[1] as usize, s.weight * s.weight);
             t2.add_triplet(i, i, w2);
             t2.add_triplet(j, j, w2);
-            t2.add_triplet(i, j, -w2);
+            t2.add_triplet(i.min(j), i.max(j), -w2);
         }
         let (step1, step1_values) = symbolic_from(n, t1)?;
         let (step2, step2_values) = symbolic_from(n, t2)?;
@@ -311,8 +311,8 @@ impl Rest {
                 }
             }
         }
-        let factor1 = Factor::new(&rest.step1, &v1, 1)?;
-        let factor2 = Factor::new(&rest.step2, &v2, 2)?;
+        let factor1 = Factor::new(&rest.step1, &v1)?;
+        let factor2 = Factor::new(&rest.step2, &v2)?;
         let n = mesh.vertices().len();
         let vertex_motion = mesh.component_of().iter().map(|&c| motion[c as usize]).collect();
         Ok(Pinned {
@@ -323,7 +323,7 @@ impl Rest {
             factor1,
             factor2,
             z1: vec![C64::new(0.0, 0.0); n],
-            xy: vec![0.0; 2 * n],
+            xy: vec![Pair::default(); n],
             positions: mesh.vertices().to_vec(),
         })
     }
@@ -431,10 +431,10 @@ pub struct Pinned {
     locations: Vec<Location>,
     points: Vec<[f64; 2]>,
     vertex_motion: Vec<Motion>,
-    factor1: Factor<C64>,
-    factor2: Factor<f64>,
+    factor1: Factor<C64, C64>,
+    factor2: Factor<f64, Pair>,
     z1: Vec<C64>,
-    xy: Vec<f64>,
+    xy: Vec<Pair>,
     positions: Vec<[f64; 2]>,
 }
 
@@ -505,46 +505,45 @@ impl Pinned {
     fn solve(&mut self, targets: &[[f64; 2]]) {
         let rest = &self.rest.0;
         let mesh = &rest.mesh;
-        let n = mesh.vertices().len();
         let w2 = rest.options.handle_weight * rest.options.handle_weight;
 
         // Step 1: A1ᴴA1 z' = A1ᴴb1, where b1 is zero on edge rows and w·target on handles.
         self.z1.fill(C64::new(0.0, 0.0));
         for (l, t) in self.locations.iter().zip(targets) {
             let tri = mesh.triangles()[l.triangle as usize];
-            for k in 0..3 {
-                self.z1[tri[k] as usize] += C64::new(t[0], t[1]) * (w2 * l.weights[k]);
+            for (&v, &weight) in tri.iter().zip(&l.weights) {
+                self.z1[v as usize] += C64::new(t[0], t[1]) * (w2 * weight);
             }
         }
         self.factor1.solve_in_place(&rest.step1, &mut self.z1);
 
         // Rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
-        self.xy.fill(0.0);
-        let (x, y) = self.xy.split_at_mut(n);
+        self.xy.fill(Pair::default());
+        let xy = &mut self.xy;
         for s in &rest.stencils {
             let t = s.fit(&self.z1);
             let norm = t.norm();
             let rotation = if norm > 0.0 && norm.is_finite() { t / norm } else { C64::new(1.0, 0.0) };
             let b = rotation * s.edge * (s.weight * s.weight);
             let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
-            x[j] += b.re;
-            y[j] += b.im;
-            x[i] -= b.re;
-            y[i] -= b.im;
+            xy[j].0[0] += b.re;
+            xy[j].0[1] += b.im;
+            xy[i].0[0] -= b.re;
+            xy[i].0[1] -= b.im;
         }
         for (l, t) in self.locations.iter().zip(targets) {
             let tri = mesh.triangles()[l.triangle as usize];
-            for k in 0..3 {
-                x[tri[k] as usize] += w2 * l.weights[k] * t[0];
-                y[tri[k] as usize] += w2 * l.weights[k] * t[1];
+            for (&v, &weight) in tri.iter().zip(&l.weights) {
+                let p = &mut xy[v as usize].0;
+                p[0] += w2 * weight * t[0];
+                p[1] += w2 * weight * t[1];
             }
         }
         self.factor2.solve_in_place(&rest.step2, &mut self.xy);
 
-        let (x, y) = self.xy.split_at(n);
         for (v, p) in self.positions.iter_mut().enumerate() {
             *p = match self.vertex_motion[v] {
-                Motion::Solve => [x[v], y[v]],
+                Motion::Solve => self.xy[v].0,
                 Motion::Rest => mesh.vertices()[v],
                 Motion::Translate(h) => {
                     let (r, t, q) = (mesh.vertices()[v], targets[h], self.points[h]);

@@ -112,6 +112,13 @@ pub enum Error {
     },
     /// The sparse factorisation failed (the matrix is not numerically positive definite).
     Factorization(String),
+    /// An outline given to [`crate::meshing::mesh_outline`] that cannot be meshed: too few
+    /// points, a non-finite point, zero area, crossing segments, a misplaced hole. The
+    /// reason names the loop and the offending point or segment indices.
+    BadOutline {
+        /// Why, naming the loop (`outer outline` or `hole h`) and input indices.
+        reason: String,
+    },
 }
 
 impl fmt::Display for Error {
@@ -154,6 +161,7 @@ impl fmt::Display for Error {
                 write!(f, "{what}: got {got}, expected {expected}")
             }
             Error::Factorization(why) => write!(f, "factorisation failed: {why}"),
+            Error::BadOutline { reason } => write!(f, "bad outline: {reason}"),
         }
     }
 }

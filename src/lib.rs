@@ -29,6 +29,7 @@ pub mod arap;
 pub mod error;
 pub mod locate;
 pub mod mesh;
+pub mod meshing;
 mod solver;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -240,13 +240,13 @@ fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
     let mut label = vec![u32::MAX; n];
     let mut component = vec![0; n];
     let mut count = 0;
-    for v in 0..n {
+    for (v, c) in component.iter_mut().enumerate() {
         let root = find(&mut parent, v as u32) as usize;
         if label[root] == u32::MAX {
             label[root] = count;
             count += 1;
         }
-        component[v] = label[root];
+        *c = label[root];
     }
     (component, count as usize)
 }

@@ -4,17 +4,25 @@
 //! (handle rows couple the vertices of one triangle, which edges couple already), so the
 //! fill-reducing ordering (AMD) and the symbolic factorisation are computed once at
 //! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]);
-//! an update only back-substitutes, in a scratch buffer allocated at compilation.
+//! an update only back-substitutes, in buffers allocated at compilation.
+//!
+//! faer orders and factorises. The back-substitutions are written here, on faer's factor:
+//! they are memory-bound, and this version streams the factor once per pass with 32-bit
+//! row indices, solves step 2's x and y together, and permutes only once each way.
+
+use std::ops::{Div, Mul, MulAssign, SubAssign};
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Par, Side};
+use num_complex::Complex64;
 
 use crate::error::{Error, Result};
 
@@ -39,7 +47,7 @@ impl Pattern {
         self.row_idx[a..b].binary_search(&row).ok().map(|k| a + k)
     }
 
-    /// The range of value slots of column `col`, with their row indices.
+    /// The value slots of column `col`, with their row indices.
     pub fn column(&self, col: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         (self.col_ptr[col]..self.col_ptr[col + 1]).map(move |k| (k, self.row_idx[k]))
     }
@@ -49,11 +57,18 @@ impl Pattern {
     }
 }
 
-/// A pattern with its AMD ordering and symbolic Cholesky factorisation.
+/// A pattern with its AMD ordering and symbolic Cholesky factorisation, and the factor's
+/// structure in the compact form the back-substitutions read.
 #[derive(Debug)]
 pub struct Symbolic {
     pattern: Pattern,
     cholesky: SymbolicCholesky<usize>,
+    /// Column pointers of `L` (the diagonal entry comes first in every column).
+    l_col_ptr: Vec<u32>,
+    /// Row indices of `L`.
+    l_row_idx: Vec<u32>,
+    /// `perm[k]`: the unknown eliminated `k`-th.
+    perm: Vec<u32>,
 }
 
 impl Symbolic {
@@ -67,7 +82,20 @@ impl Symbolic {
         let cholesky =
             factorize_symbolic_cholesky(pattern.symbolic(), Side::Upper, SymmetricOrdering::Amd, params)
                 .map_err(|e| Error::Factorization(format!("{e:?}")))?;
-        Ok(Symbolic { pattern, cholesky })
+        let SymbolicCholeskyRaw::Simplicial(l) = cholesky.raw() else {
+            return Err(Error::Factorization("expected a simplicial factorisation".into()));
+        };
+        let narrow = |v: &[usize]| -> Result<Vec<u32>> {
+            v.iter()
+                .map(|&x| u32::try_from(x).map_err(|_| Error::Factorization("factor too large".into())))
+                .collect()
+        };
+        let (l_col_ptr, l_row_idx) = (narrow(l.col_ptr())?, narrow(l.row_idx())?);
+        let perm = match cholesky.perm() {
+            Some(p) => narrow(p.arrays().0)?,
+            None => (0..pattern.n as u32).collect(),
+        };
+        Ok(Symbolic { pattern, cholesky, l_col_ptr, l_row_idx, perm })
     }
 
     /// The pattern this was built for.
@@ -77,35 +105,115 @@ impl Symbolic {
 
     /// The number of stored entries of the Cholesky factor.
     pub fn factor_nnz(&self) -> usize {
-        self.cholesky.len_val()
+        self.l_row_idx.len()
     }
 }
 
-/// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern, with the
-/// scratch memory for solving `rhs_cols` right-hand sides at once.
-pub struct Factor<T> {
+/// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern, and the
+/// buffer its solves permute into.
+pub struct Factor<T, R> {
     values: Vec<T>,
-    scratch: MemBuffer,
-    rhs_cols: usize,
+    work: Vec<R>,
 }
 
-impl<T> std::fmt::Debug for Factor<T> {
+impl<T, R> std::fmt::Debug for Factor<T, R> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Factor").field("nnz", &self.values.len()).field("rhs_cols", &self.rhs_cols).finish()
+        f.debug_struct("Factor").field("nnz", &self.values.len()).finish()
     }
 }
 
-impl<T: ComplexField> Factor<T> {
+/// A right-hand-side entry that a factor entry of type `T` can act on: a complex number for
+/// step 1, an `(x, y)` pair for step 2.
+pub trait Rhs<T>: Copy + Default + SubAssign + Mul<f64, Output = Self> + Div<f64, Output = Self> {
+    /// `l · self`.
+    fn times(self, l: T) -> Self;
+    /// `conj(l) · self`.
+    fn times_conj(self, l: T) -> Self;
+}
+
+impl Rhs<Complex64> for Complex64 {
+    #[inline(always)]
+    fn times(self, l: Complex64) -> Self {
+        l * self
+    }
+    #[inline(always)]
+    fn times_conj(self, l: Complex64) -> Self {
+        l.conj() * self
+    }
+}
+
+/// A pair of reals solved together against a real factor (step 2's x and y).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Pair(pub [f64; 2]);
+
+impl SubAssign for Pair {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: Pair) {
+        self.0[0] -= o.0[0];
+        self.0[1] -= o.0[1];
+    }
+}
+
+impl Mul<f64> for Pair {
+    type Output = Pair;
+    #[inline(always)]
+    fn mul(self, s: f64) -> Pair {
+        Pair([self.0[0] * s, self.0[1] * s])
+    }
+}
+
+impl Div<f64> for Pair {
+    type Output = Pair;
+    #[inline(always)]
+    fn div(self, s: f64) -> Pair {
+        Pair([self.0[0] / s, self.0[1] / s])
+    }
+}
+
+impl MulAssign<f64> for Pair {
+    fn mul_assign(&mut self, s: f64) {
+        *self = *self * s;
+    }
+}
+
+impl Rhs<f64> for Pair {
+    #[inline(always)]
+    fn times(self, l: f64) -> Self {
+        self * l
+    }
+    #[inline(always)]
+    fn times_conj(self, l: f64) -> Self {
+        self * l
+    }
+}
+
+/// Factor entries: the diagonal of a Cholesky factor is real and positive.
+pub trait Entry: ComplexField + Copy {
+    /// The real part (the whole value on the diagonal).
+    fn re(self) -> f64;
+}
+
+impl Entry for f64 {
+    fn re(self) -> f64 {
+        self
+    }
+}
+
+impl Entry for Complex64 {
+    fn re(self) -> f64 {
+        self.re
+    }
+}
+
+impl<T: Entry, R: Rhs<T>> Factor<T, R> {
     /// Factorises the matrix whose upper triangle has `values` in `symbolic`'s pattern order.
     /// Fails if the matrix is not numerically positive definite.
-    pub fn new(symbolic: &Symbolic, values: &[T], rhs_cols: usize) -> Result<Factor<T>> {
+    pub fn new(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T, R>> {
         let n = symbolic.pattern.n;
         let a = SparseColMatRef::new(symbolic.pattern.symbolic(), values);
         let chol = &symbolic.cholesky;
         let mut l = vec![T::zero_impl(); chol.len_val()];
-        let req = chol
-            .factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default())
-            .or(chol.solve_in_place_scratch::<T>(rhs_cols, Par::Seq));
+        let req = chol.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default());
         let mut scratch =
             MemBuffer::try_new(req).map_err(|_| Error::Factorization("out of memory".into()))?;
         chol.factorize_numeric_llt(
@@ -118,20 +226,36 @@ impl<T: ComplexField> Factor<T> {
             Default::default(),
         )
         .map_err(|e| Error::Factorization(format!("matrix of order {n} is not positive definite ({e:?})")))?;
-        Ok(Factor { values: l, scratch, rhs_cols })
+        Ok(Factor { values: l, work: vec![R::default(); n] })
     }
 
-    /// Solves in place for the `rhs_cols` column-major right-hand sides in `rhs`
-    /// (`rhs.len() == n * rhs_cols`). No allocation.
-    pub fn solve_in_place(&mut self, symbolic: &Symbolic, rhs: &mut [T]) {
-        let n = symbolic.pattern.n;
-        debug_assert_eq!(rhs.len(), n * self.rhs_cols);
-        let rhs = MatMut::from_column_major_slice_mut(rhs, n, self.rhs_cols);
-        LltRef::new(&symbolic.cholesky, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            Par::Seq,
-            MemStack::new(&mut self.scratch),
-        );
+    /// Solves `A x = rhs` in place: `x = P (L Lᴴ)⁻¹ Pᵀ rhs`. Streams the factor twice;
+    /// no allocation.
+    pub fn solve_in_place(&mut self, symbolic: &Symbolic, rhs: &mut [R]) {
+        let (ptr, rows, l, x) = (&symbolic.l_col_ptr, &symbolic.l_row_idx, &self.values, &mut self.work);
+        for (xk, &p) in x.iter_mut().zip(&symbolic.perm) {
+            *xk = rhs[p as usize];
+        }
+        // L y = b, column by column.
+        for j in 0..x.len() {
+            let (a, b) = (ptr[j] as usize, ptr[j + 1] as usize);
+            let xj = x[j] / l[a].re();
+            x[j] = xj;
+            for (&r, &v) in rows[a + 1..b].iter().zip(&l[a + 1..b]) {
+                x[r as usize] -= xj.times(v);
+            }
+        }
+        // Lᴴ x = y, backwards.
+        for j in (0..x.len()).rev() {
+            let (a, b) = (ptr[j] as usize, ptr[j + 1] as usize);
+            let mut s = x[j];
+            for (&r, &v) in rows[a + 1..b].iter().zip(&l[a + 1..b]) {
+                s -= x[r as usize].times_conj(v);
+            }
+            x[j] = s / l[a].re();
+        }
+        for (xk, &p) in x.iter().zip(&symbolic.perm) {
+            rhs[p as usize] = *xk;
+        }
     }
 }
