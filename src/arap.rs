@@ -50,13 +50,20 @@ pub enum EdgeWeights {
 /// The smallest magnitude an edge's cotangent weight keeps; see [`EdgeWeights::Cotangent`].
 pub const MIN_COTANGENT_WEIGHT: f64 = 1e-3;
 
+/// The accepted range of [`Options::handle_weight`].
+pub const HANDLE_WEIGHT_RANGE: (f64, f64) = (1e-4, 1e6);
+
+/// The largest magnitude a target coordinate may have: far beyond any screen, and small
+/// enough that `w²·target` cannot overflow.
+pub const MAX_COORDINATE: f64 = 1e100;
+
 /// Registration options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
     /// Edge weighting. Default: uniform.
     pub weights: EdgeWeights,
     /// `w`, the multiplier of the handle rows (the energy weighs `w²`). Default 1000
-    /// (section 4.1). Must be finite and positive.
+    /// (section 4.1). Must lie in [`HANDLE_WEIGHT_RANGE`].
     pub handle_weight: f64,
 }
 
@@ -331,10 +338,14 @@ impl Rest {
 
 fn check_options(options: &Options) -> Result<()> {
     let w = options.handle_weight;
-    if !(w.is_finite() && w > 0.0) {
+    if !(HANDLE_WEIGHT_RANGE.0..=HANDLE_WEIGHT_RANGE.1).contains(&w) {
         return Err(Error::BadOption {
             name: "handleWeight",
-            reason: format!("{w} is not a finite positive number"),
+            reason: format!(
+                "{w} is outside [{:e}, {:e}] (the edge terms weigh about 1; beyond this range the normal \
+                 matrices are numerically singular)",
+                HANDLE_WEIGHT_RANGE.0, HANDLE_WEIGHT_RANGE.1
+            ),
         });
     }
     Ok(())
@@ -470,7 +481,8 @@ impl Pinned {
     /// back-substitutions; no allocation. The result depends on `targets` alone, not on
     /// earlier updates (convention 6).
     ///
-    /// Errors (the puppet is unchanged): [`Error::CountMismatch`], [`Error::NonFinite`].
+    /// Errors (the puppet is unchanged): [`Error::CountMismatch`], [`Error::NonFinite`],
+    /// [`Error::TooLarge`] (a coordinate beyond [`MAX_COORDINATE`]).
     pub fn update(&mut self, targets: &[[f64; 2]]) -> Result<&[[f64; 2]]> {
         self.check_targets(targets)?;
         self.solve(targets);
@@ -499,20 +511,34 @@ impl Pinned {
                 expected: self.points.len(),
             });
         }
-        check_finite("targets", targets)
+        check_finite("targets", targets)?;
+        for (index, t) in targets.iter().enumerate() {
+            if let Some(&value) = t.iter().find(|x| x.abs() > MAX_COORDINATE) {
+                return Err(Error::TooLarge { what: "targets", index, value, limit: MAX_COORDINATE });
+            }
+        }
+        Ok(())
     }
 
     fn solve(&mut self, targets: &[[f64; 2]]) {
         let rest = &self.rest.0;
         let mesh = &rest.mesh;
         let w2 = rest.options.handle_weight * rest.options.handle_weight;
+        // Both steps are translation-equivariant, so solve for the targets minus their
+        // centroid and add it back: round-off then does not grow with the distance of the
+        // shape from the origin.
+        let mut centre = [0.0; 2];
+        for t in targets {
+            centre[0] += t[0] / targets.len() as f64;
+            centre[1] += t[1] / targets.len() as f64;
+        }
 
         // Step 1: A1ᴴA1 z' = A1ᴴb1, where b1 is zero on edge rows and w·target on handles.
         self.z1.fill(C64::new(0.0, 0.0));
         for (l, t) in self.locations.iter().zip(targets) {
             let tri = mesh.triangles()[l.triangle as usize];
             for (&v, &weight) in tri.iter().zip(&l.weights) {
-                self.z1[v as usize] += C64::new(t[0], t[1]) * (w2 * weight);
+                self.z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * (w2 * weight);
             }
         }
         self.factor1.solve_in_place(&rest.step1, &mut self.z1);
@@ -535,15 +561,18 @@ impl Pinned {
             let tri = mesh.triangles()[l.triangle as usize];
             for (&v, &weight) in tri.iter().zip(&l.weights) {
                 let p = &mut xy[v as usize].0;
-                p[0] += w2 * weight * t[0];
-                p[1] += w2 * weight * t[1];
+                p[0] += w2 * weight * (t[0] - centre[0]);
+                p[1] += w2 * weight * (t[1] - centre[1]);
             }
         }
         self.factor2.solve_in_place(&rest.step2, &mut self.xy);
 
         for (v, p) in self.positions.iter_mut().enumerate() {
             *p = match self.vertex_motion[v] {
-                Motion::Solve => self.xy[v].0,
+                Motion::Solve => {
+                    let p = self.xy[v].0;
+                    [p[0] + centre[0], p[1] + centre[1]]
+                }
                 Motion::Rest => mesh.vertices()[v],
                 Motion::Translate(h) => {
                     let (r, t, q) = (mesh.vertices()[v], targets[h], self.points[h]);

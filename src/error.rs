@@ -25,6 +25,17 @@ pub enum Error {
         /// The offending value.
         value: f64,
     },
+    /// A coordinate too large to compute with.
+    TooLarge {
+        /// What the array holds.
+        what: &'static str,
+        /// The index of the offending item.
+        index: usize,
+        /// The offending value.
+        value: f64,
+        /// The largest magnitude allowed.
+        limit: f64,
+    },
     /// The mesh has no triangle.
     EmptyMesh,
     /// A triangle refers to a vertex that does not exist.
@@ -129,6 +140,9 @@ impl fmt::Display for Error {
             }
             Error::NonFinite { what, index, value } => {
                 write!(f, "{what}: item {index} has a non-finite coordinate ({value})")
+            }
+            Error::TooLarge { what, index, value, limit } => {
+                write!(f, "{what}: item {index} has a coordinate {value:e} beyond ±{limit:e}")
             }
             Error::EmptyMesh => write!(f, "the mesh has no triangle"),
             Error::IndexOutOfRange { triangle, index, vertex_count } => write!(

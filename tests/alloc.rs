@@ -1,0 +1,102 @@
+//! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile` (DESIGN.md:
+//! "back-substitutions and rotation fits only; no allocation"), checked with a counting
+//! global allocator. Its own test binary, because the allocator is global.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use bunraku::{EdgeWeights, Handle, Options, Rest};
+use common::{inside_point_near, Grid, Lcg};
+
+/// Counts allocations (alloc, alloc_zeroed, realloc) made by a thread while its flag is set.
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+fn note() {
+    // `try_with`: the thread-local may already be gone while a thread shuts down.
+    if COUNTING.try_with(Cell::get).unwrap_or(false) {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note();
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note();
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// The number of allocations `f` makes on this thread.
+fn allocations<R>(f: impl FnOnce() -> R) -> (usize, R) {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    let r = f();
+    COUNTING.with(|c| c.set(false));
+    (ALLOCATIONS.load(Ordering::Relaxed) - before, r)
+}
+
+#[test]
+fn update_does_not_allocate() {
+    // The counter works: building a vector and compiling do allocate.
+    assert!(allocations(|| vec![1u8; 10]).0 >= 1);
+
+    let shape = Grid::new(44, 44).jitter(0.2, 1).shape(); // 2025 vertices
+    assert!(shape.vertices.len() > 2000);
+    let n = shape.vertices.len();
+    for weights in [EdgeWeights::Uniform, EdgeWeights::Cotangent] {
+        let rest = Rest::register(shape.mesh(), Options { weights, ..Options::default() }).unwrap();
+        let hs: Vec<[f64; 2]> = [[1.0, 1.0], [43.0, 43.0], [43.0, 1.0], [20.0, 30.0]]
+            .iter()
+            .map(|&p| inside_point_near(rest.mesh(), p))
+            .collect();
+        let handles: Vec<Handle> = hs.iter().map(|&p| Handle::Point(p)).collect();
+        let (compiled, pinned) = allocations(|| rest.compile(&handles).unwrap());
+        assert!(compiled > 0, "compile allocates; the counter must see it");
+        let mut pinned = pinned;
+
+        // Targets and the output buffer are made before counting.
+        let mut rng = Lcg::new(9);
+        let poses: Vec<Vec<[f64; 2]>> = (0..6)
+            .map(|_| hs.iter().map(|p| [p[0] + rng.range(-8.0, 8.0), p[1] + rng.range(-8.0, 8.0)]).collect())
+            .collect();
+        let mut out = vec![[0.0; 2]; n];
+        let mut sum = 0.0;
+        let (count, ()) = allocations(|| {
+            for targets in &poses {
+                let positions = pinned.update(targets).unwrap();
+                sum += positions[n / 2][0];
+                pinned.update_into(targets, &mut out).unwrap();
+                sum += out[n - 1][1];
+            }
+        });
+        assert!(sum.is_finite());
+        assert_eq!(count, 0, "{weights:?}: {count} allocations in {} updates", 2 * poses.len());
+        // And the updates did something.
+        assert!(common::max_dist(&out, &shape.vertices) > 1.0);
+    }
+}
