@@ -8,6 +8,7 @@ use js_sys::{Float64Array, Uint32Array};
 use serde::Deserialize;
 use wasm_bindgen::prelude::*;
 
+use crate::meshing::{mesh_outline, OutlineOptions};
 use crate::{EdgeWeights, Error, Handle, Mesh, Options, Pinned, Rest};
 
 fn js_error(e: Error) -> JsError {
@@ -33,16 +34,7 @@ fn parse_options(options: JsValue) -> Result<Options, JsError> {
         return Ok(Options::default());
     }
     // serde-wasm-bindgen reads only the fields it knows: name a misspelt one here.
-    if let Some(object) = options.dyn_ref::<js_sys::Object>() {
-        for key in js_sys::Object::keys(object).iter() {
-            let key = key.as_string().unwrap_or_default();
-            if !["weights", "handleWeight"].contains(&key.as_str()) {
-                return Err(JsError::new(&format!(
-                    "options: unknown option {key:?} (known: weights, handleWeight)"
-                )));
-            }
-        }
-    }
+    check_keys(&options, &["weights", "handleWeight"])?;
     let js: JsOptions = serde_wasm_bindgen::from_value(options).map_err(|e| {
         JsError::new(&format!(
             "options: {e} (expected {{ weights?: \"uniform\" | \"cotangent\", handleWeight?: number }})"
@@ -243,5 +235,108 @@ impl Puppet {
             EdgeWeights::Uniform => "uniform".into(),
             EdgeWeights::Cotangent => "cotangent".into(),
         }
+    }
+}
+
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase")]
+struct JsOutlineOptions {
+    spacing: Option<f64>,
+    min_angle: Option<f64>,
+    max_vertices: Option<usize>,
+}
+
+/// Rejects option keys that serde-wasm-bindgen would silently ignore.
+fn check_keys(options: &JsValue, known: &[&str]) -> Result<(), JsError> {
+    if let Some(object) = options.dyn_ref::<js_sys::Object>() {
+        for key in js_sys::Object::keys(object).iter() {
+            let key = key.as_string().unwrap_or_default();
+            if !known.contains(&key.as_str()) {
+                return Err(JsError::new(&format!(
+                    "options: unknown option {key:?} (known: {})",
+                    known.join(", ")
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A validated triangle mesh, made from an outline (or, later, a picture); its `vertices`
+/// and `triangles` feed `Puppet.register`.
+#[wasm_bindgen(js_name = Mesh)]
+pub struct JsMesh {
+    mesh: Mesh,
+}
+
+#[wasm_bindgen(js_class = Mesh)]
+impl JsMesh {
+    /// Meshes the inside of the closed polygon `outer` (`[x0, y0, x1, y1, …]`) minus the
+    /// `holes` (an array of such polygons) with well-shaped triangles (constrained Delaunay
+    /// triangulation refined by spade). `options`: `{ spacing?: number` (target edge length,
+    /// in the points' units; default: the outline's bounding-box diagonal / 40)`, minAngle?:
+    /// number` (degrees, default 30, at most 33)`, maxVertices?: number }`. Throws on
+    /// self-intersecting outlines (naming the crossing segments), misplaced holes, non-finite
+    /// points and bad options.
+    #[wasm_bindgen(js_name = fromOutline)]
+    pub fn from_outline(
+        outer: &[f64],
+        #[wasm_bindgen(unchecked_param_type = "Float64Array[] | undefined")] holes: JsValue,
+        #[wasm_bindgen(
+            unchecked_param_type = "{ spacing?: number, minAngle?: number, maxVertices?: number }"
+        )]
+        options: JsValue,
+    ) -> Result<JsMesh, JsError> {
+        let outer = crate::error::points_from_flat("outline", outer).map_err(js_error)?;
+        let mut hole_points = Vec::new();
+        if !(holes.is_undefined() || holes.is_null()) {
+            let array = holes
+                .dyn_ref::<js_sys::Array>()
+                .ok_or_else(|| JsError::new("holes: expected an array of Float64Array"))?;
+            for (k, hole) in array.iter().enumerate() {
+                let flat = hole
+                    .dyn_ref::<Float64Array>()
+                    .ok_or_else(|| JsError::new(&format!("holes: item {k} is not a Float64Array")))?
+                    .to_vec();
+                hole_points.push(crate::error::points_from_flat("hole", &flat).map_err(js_error)?);
+            }
+        }
+        let mut o = OutlineOptions::new();
+        if !(options.is_undefined() || options.is_null()) {
+            check_keys(&options, &["spacing", "minAngle", "maxVertices"])?;
+            let js: JsOutlineOptions = serde_wasm_bindgen::from_value(options)
+                .map_err(|e| JsError::new(&format!("options: {e}")))?;
+            o.spacing = js.spacing;
+            if let Some(a) = js.min_angle {
+                o.min_angle_deg = a;
+            }
+            o.max_vertices = js.max_vertices;
+        }
+        let mesh = mesh_outline(&outer, &hole_points, &o).map_err(js_error)?;
+        Ok(JsMesh { mesh })
+    }
+
+    /// The vertices `[x0, y0, …]`.
+    #[wasm_bindgen(getter)]
+    pub fn vertices(&self) -> Float64Array {
+        Float64Array::from(self.mesh.vertices().as_flattened())
+    }
+
+    /// The triangles `[a0, b0, c0, …]`, counter-clockwise.
+    #[wasm_bindgen(getter)]
+    pub fn triangles(&self) -> Uint32Array {
+        Uint32Array::from(self.mesh.triangles().as_flattened())
+    }
+
+    /// The number of vertices.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.mesh.vertices().len()
+    }
+
+    /// The number of triangles.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.triangles().len()
     }
 }
