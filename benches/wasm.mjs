@@ -1,0 +1,79 @@
+// Node benchmark of the release wasm build (pkg/): register, compile and update on
+// star-shaped meshes of about 3k, 30k and 100k vertices with 4 handles and a moving drag,
+// the same workload as benches/arap.rs. Prints a Markdown table.
+//
+//   npm run bench             (native and wasm)
+//   node benches/wasm.mjs [--quick]
+
+import { readFileSync, statSync } from "node:fs";
+import { gzipSync } from "node:zlib";
+import { performance } from "node:perf_hooks";
+import os from "node:os";
+import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
+
+const wasmPath = new URL("../pkg/bunraku_bg.wasm", import.meta.url);
+const bytes = readFileSync(wasmPath);
+initSync({ module: bytes });
+const quick = process.argv.includes("--quick");
+
+// star(5, 0.5, 1.0) as in src/meshing/outline.rs: tips on radius 1, first tip on +y.
+const star = new Float64Array(20);
+for (let k = 0; k < 10; k++) {
+  const r = k % 2 === 0 ? 1.0 : 0.5;
+  const a = Math.PI / 2 + (2 * Math.PI * k) / 10;
+  star[2 * k] = r * Math.cos(a);
+  star[2 * k + 1] = r * Math.sin(a);
+}
+const area = 5 * 0.5 * 1.0 * Math.sin(Math.PI / 5);
+const spacingFor = (n) => Math.sqrt((1.8 * area) / n); // meshing::spacing_for_vertices
+
+const ms = (f) => {
+  const t = performance.now();
+  f();
+  return performance.now() - t;
+};
+const pct = (sorted, p) => sorted[Math.round((sorted.length - 1) * p)];
+const sorted = (a) => [...a].sort((x, y) => x - y);
+
+console.log(`node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores`);
+console.log(`pkg/bunraku_bg.wasm: ${bytes.length} bytes raw, ${gzipSync(bytes, { level: 9 }).length} bytes gzipped`);
+console.log("");
+console.log("| vertices | triangles | weights | mesh (ms) | register (ms) | compile (ms) | update median (ms) | update p95 (ms) |");
+console.log("|---:|---:|---|---:|---:|---:|---:|---:|");
+for (const target of [3000, 30000, 100000]) {
+  let mesh;
+  const tMesh = ms(() => (mesh = Mesh.fromOutline(star, undefined, { spacing: spacingFor(target) })));
+  const vertices = mesh.vertices;
+  const triangles = mesh.triangles;
+  for (const weights of ["uniform", "cotangent"]) {
+    const reps = quick || target > 30000 ? 3 : 5;
+    let puppet;
+    const register = [];
+    for (let r = 0; r < reps; r++) {
+      puppet?.free();
+      register.push(ms(() => (puppet = Puppet.register(vertices, triangles, { weights }))));
+    }
+    const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
+    const compile = [];
+    for (let r = 0; r < reps; r++) compile.push(ms(() => puppet.compile(handles)));
+    const frames = quick ? 50 : 300;
+    const out = new Float64Array(2 * puppet.vertexCount);
+    const targets = new Float64Array(handles);
+    const update = [];
+    for (let f = 0; f < frames; f++) {
+      const a = (f / frames) * 2 * Math.PI;
+      targets[0] = handles[0] + 0.4 * Math.sin(a);
+      targets[1] = handles[1] + 0.3 * (1 - Math.cos(a));
+      targets[2] = handles[2] + 0.1 * Math.sin(a);
+      targets[3] = handles[3] - 0.2 * Math.sin(a);
+      update.push(ms(() => puppet.updateInto(targets, out)));
+    }
+    const [rg, cp, up] = [sorted(register), sorted(compile), sorted(update)];
+    console.log(
+      `| ${puppet.vertexCount} | ${puppet.triangleCount} | ${weights} | ${tMesh.toFixed(1)} | ${pct(rg, 0.5).toFixed(1)} | ` +
+        `${pct(cp, 0.5).toFixed(1)} | ${pct(up, 0.5).toFixed(3)} | ${pct(up, 0.95).toFixed(3)} |`,
+    );
+    puppet.free();
+  }
+  mesh.free();
+}
