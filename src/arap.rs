@@ -138,14 +138,37 @@ impl Stencil {
         h.map(|x| x * self.weight)
     }
 
-    /// `t_k` fitted to the positions `z`.
-    #[inline]
-    fn fit(&self, z: &[C64]) -> C64 {
-        let mut t = C64::new(0.0, 0.0);
-        for m in 0..self.len {
-            t += self.fit[m] * z[self.verts[m] as usize];
+    /// The compact form an update reads.
+    fn edge_fit(&self) -> EdgeFit {
+        let i = self.verts[0];
+        let mut verts = [i; 4];
+        let mut fit = [C64::new(0.0, 0.0); 3];
+        for m in 1..self.len {
+            verts[m] = self.verts[m];
+            fit[m - 1] = self.fit[m];
         }
-        t
+        EdgeFit { verts, fit, edge: self.edge * (self.weight * self.weight) }
+    }
+}
+
+/// What an update needs of an edge, in 96 bytes: the fit coefficients relative to `z_i`
+/// (`Σ_m fit[m] = 0` for centred coordinates, so `t_k = Σ_{m≥1} fit[m] (z_m − z_i)`; a
+/// missing side points at `i` with coefficient 0) and `ω² e_k`.
+#[derive(Debug, Clone, Copy)]
+struct EdgeFit {
+    verts: [u32; 4],
+    fit: [C64; 3],
+    edge: C64,
+}
+
+impl EdgeFit {
+    /// `t_k` fitted to the positions `z` (equation 6).
+    #[inline(always)]
+    fn fit(&self, z: &[C64]) -> C64 {
+        let zi = z[self.verts[0] as usize];
+        self.fit[0] * (z[self.verts[1] as usize] - zi)
+            + self.fit[1] * (z[self.verts[2] as usize] - zi)
+            + self.fit[2] * (z[self.verts[3] as usize] - zi)
     }
 }
 
@@ -154,7 +177,7 @@ struct RestData {
     mesh: Mesh,
     locator: Locator,
     options: Options,
-    stencils: Vec<Stencil>,
+    edges: Vec<EdgeFit>,
     step1: Symbolic,
     step1_values: Vec<C64>,
     step2: Symbolic,
@@ -222,7 +245,7 @@ impl Rest {
             mesh,
             locator,
             options,
-            stencils,
+            edges: stencils.iter().map(Stencil::edge_fit).collect(),
             step1,
             step1_values,
             step2,
@@ -546,11 +569,12 @@ impl Pinned {
         // Rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
         self.xy.fill(Pair::default());
         let xy = &mut self.xy;
-        for s in &rest.stencils {
+        for s in &rest.edges {
             let t = s.fit(&self.z1);
-            let norm = t.norm();
-            let rotation = if norm > 0.0 && norm.is_finite() { t / norm } else { C64::new(1.0, 0.0) };
-            let b = rotation * s.edge * (s.weight * s.weight);
+            // 1/√(c² + s²) (not hypot: no overflow is possible here, and it is 10× slower).
+            let inverse = 1.0 / t.norm_sqr().sqrt();
+            let rotation = if inverse.is_finite() { t * inverse } else { C64::new(1.0, 0.0) };
+            let b = rotation * s.edge;
             let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
             xy[j].0[0] += b.re;
             xy[j].0[1] += b.im;
