@@ -143,10 +143,8 @@ impl Stencil {
         let i = self.verts[0];
         let mut verts = [i; 4];
         let mut fit = [C64::new(0.0, 0.0); 3];
-        for m in 1..self.len {
-            verts[m] = self.verts[m];
-            fit[m - 1] = self.fit[m];
-        }
+        verts[1..self.len].copy_from_slice(&self.verts[1..self.len]);
+        fit[..self.len - 1].copy_from_slice(&self.fit[1..self.len]);
         EdgeFit { verts, fit, edge: self.edge * (self.weight * self.weight) }
     }
 }
