@@ -339,16 +339,32 @@ impl Rest {
                 }
             }
         }
-        let factor1 = Factor::new(&rest.step1, &v1)?;
-        let factor2 = Factor::new(&rest.step2, &v2)?;
         let n = mesh.vertices().len();
+        let mut factor1 = Factor::new(&rest.step1, &v1)?;
+        let step1 = if handles.len() <= BASIS_MAX_HANDLES {
+            // Step 1's right-hand side is linear in the targets, so its solution is
+            // z' = Σ_h (c_h − centre) g_h with g_h = (A1ᴴA1)⁻¹ w² C1ᴴ e_h: one solve per
+            // handle now, and an update costs n complex multiply-adds per handle.
+            let mut basis = vec![C64::new(0.0, 0.0); handles.len() * n];
+            for (g, l) in basis.chunks_exact_mut(n.max(1)).zip(&locations) {
+                let tri = mesh.triangles()[l.triangle as usize];
+                for (&v, &weight) in tri.iter().zip(&l.weights) {
+                    g[v as usize] += C64::new(w2 * weight, 0.0);
+                }
+                factor1.solve_in_place(&rest.step1, g);
+            }
+            Step1::Basis(basis)
+        } else {
+            Step1::Solve(factor1)
+        };
+        let factor2 = Factor::new(&rest.step2, &v2)?;
         let vertex_motion = mesh.component_of().iter().map(|&c| motion[c as usize]).collect();
         Ok(Pinned {
             rest: self.clone(),
             locations,
             points,
             vertex_motion,
-            factor1,
+            step1,
             factor2,
             z1: vec![C64::new(0.0, 0.0); n],
             xy: vec![Pair::default(); n],
@@ -444,6 +460,19 @@ fn resolve_handle(rest: &RestData, k: usize, handle: &Handle) -> Result<Location
     }
 }
 
+/// Up to this many handles, step 1 is precomputed per handle at compilation (see
+/// [`Pinned::update`]); with more, every update back-substitutes step 1 too.
+pub const BASIS_MAX_HANDLES: usize = 16;
+
+/// How an update gets step 1's solution.
+#[derive(Debug)]
+enum Step1 {
+    /// `g_h` for every handle, handle-major (`handles × n`).
+    Basis(Vec<C64>),
+    /// The factor of `A1ᴴA1`, for many handles.
+    Solve(Factor<C64, C64>),
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Motion {
     /// A component with two or more handles: solved.
@@ -463,7 +492,7 @@ pub struct Pinned {
     locations: Vec<Location>,
     points: Vec<[f64; 2]>,
     vertex_motion: Vec<Motion>,
-    factor1: Factor<C64, C64>,
+    step1: Step1,
     factor2: Factor<f64, Pair>,
     z1: Vec<C64>,
     xy: Vec<Pair>,
@@ -556,13 +585,25 @@ impl Pinned {
 
         // Step 1: A1ᴴA1 z' = A1ᴴb1, where b1 is zero on edge rows and w·target on handles.
         self.z1.fill(C64::new(0.0, 0.0));
-        for (l, t) in self.locations.iter().zip(targets) {
-            let tri = mesh.triangles()[l.triangle as usize];
-            for (&v, &weight) in tri.iter().zip(&l.weights) {
-                self.z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * (w2 * weight);
+        match &mut self.step1 {
+            Step1::Basis(basis) => {
+                for (g, t) in basis.chunks_exact(self.z1.len().max(1)).zip(targets) {
+                    let c = C64::new(t[0] - centre[0], t[1] - centre[1]);
+                    for (z, &b) in self.z1.iter_mut().zip(g) {
+                        *z += c * b;
+                    }
+                }
+            }
+            Step1::Solve(factor1) => {
+                for (l, t) in self.locations.iter().zip(targets) {
+                    let tri = mesh.triangles()[l.triangle as usize];
+                    for (&v, &weight) in tri.iter().zip(&l.weights) {
+                        self.z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * (w2 * weight);
+                    }
+                }
+                factor1.solve_in_place(&rest.step1, &mut self.z1);
             }
         }
-        self.factor1.solve_in_place(&rest.step1, &mut self.z1);
 
         // Rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
         self.xy.fill(Pair::default());

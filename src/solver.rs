@@ -6,11 +6,14 @@
 //! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]);
 //! an update only back-substitutes, in buffers allocated at compilation.
 //!
-//! faer orders and factorises. The back-substitutions are written here, on faer's factor:
-//! they are memory-bound, and this version streams the factor once per pass with 32-bit
-//! row indices, solves step 2's x and y together, and permutes only once each way.
+//! faer orders and factorises (supernodal). The back-substitutions are written here, on
+//! faer's supernodal factor: they are memory-bound, and these stream each dense supernode
+//! block once per pass, scatter or gather its off-diagonal rows once, solve step 2's x and
+//! y together, and permute only once each way. (faer's own supernodal solve calls its
+//! general dense kernels per block, which cost more than they save on the small blocks of
+//! these meshes, most of all in wasm; its simplicial factorisation was slower to compute.)
 
-use std::ops::{Div, Mul, MulAssign, SubAssign};
+use std::ops::{AddAssign, Div, Mul, SubAssign};
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -57,57 +60,87 @@ impl Pattern {
     }
 }
 
-/// A pattern with its AMD ordering and symbolic Cholesky factorisation, and the factor's
-/// structure in the compact form the back-substitutions read.
+/// One supernode of the factor: columns `start..start + ncols` share the off-diagonal row
+/// pattern `rows[row_start..row_start + row_len]`; its values are a dense column-major
+/// block of `(ncols + row_len) × ncols` entries at `value_start` (the diagonal block first).
+#[derive(Debug, Clone, Copy)]
+struct Supernode {
+    start: u32,
+    ncols: u32,
+    row_start: u32,
+    row_len: u32,
+    value_start: usize,
+}
+
+/// A pattern with its AMD ordering and symbolic (supernodal) Cholesky factorisation, and
+/// the factor's structure in the compact form the back-substitutions read.
 #[derive(Debug)]
 pub struct Symbolic {
     pattern: Pattern,
     cholesky: SymbolicCholesky<usize>,
-    /// Column pointers of `L` (the diagonal entry comes first in every column).
-    l_col_ptr: Vec<u32>,
-    /// Row indices of `L`.
-    l_row_idx: Vec<u32>,
+    supernodes: Vec<Supernode>,
+    /// Off-diagonal row indices of all supernodes.
+    rows: Vec<u32>,
     /// `perm[k]`: the unknown eliminated `k`-th.
     perm: Vec<u32>,
+    /// The longest off-diagonal pattern.
+    max_rows: usize,
 }
 
 impl Symbolic {
-    /// Orders (AMD) and factorises `pattern` symbolically. The simplicial factorisation is
-    /// forced: in wasm the supernodal one was 1.5–3× slower on these meshes (DESIGN.md).
+    /// Orders (AMD) and factorises `pattern` symbolically, supernodally.
     pub fn new(pattern: Pattern) -> Result<Symbolic> {
         let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
         let cholesky =
             factorize_symbolic_cholesky(pattern.symbolic(), Side::Upper, SymmetricOrdering::Amd, params)
                 .map_err(|e| Error::Factorization(format!("{e:?}")))?;
-        let SymbolicCholeskyRaw::Simplicial(l) = cholesky.raw() else {
-            return Err(Error::Factorization("expected a simplicial factorisation".into()));
+        let SymbolicCholeskyRaw::Supernodal(l) = cholesky.raw() else {
+            return Err(Error::Factorization("expected a supernodal factorisation".into()));
         };
-        let narrow = |v: &[usize]| -> Result<Vec<u32>> {
-            v.iter()
-                .map(|&x| u32::try_from(x).map_err(|_| Error::Factorization("factor too large".into())))
-                .collect()
-        };
-        let (l_col_ptr, l_row_idx) = (narrow(l.col_ptr())?, narrow(l.row_idx())?);
-        // The back-substitutions index without bounds checks: establish their invariants.
+        let too_large = || Error::Factorization("factor too large".into());
+        let narrow = |x: usize| u32::try_from(x).map_err(|_| too_large());
         let n = pattern.n;
-        let well_formed = l_col_ptr.len() == n + 1
-            && l_col_ptr[n] as usize == l_row_idx.len()
-            && (0..n).all(|j| {
-                let (a, b) = (l_col_ptr[j] as usize, l_col_ptr[j + 1] as usize);
-                a < b && b <= l_row_idx.len() && l_row_idx[a] as usize == j
-            })
-            && l_row_idx.iter().all(|&r| (r as usize) < n);
-        if !well_formed {
+        let mut supernodes = Vec::with_capacity(l.n_supernodes());
+        for s in 0..l.n_supernodes() {
+            let (start, end) = (l.supernode_begin()[s], l.supernode_end()[s]);
+            let row_start = l.col_ptr_for_row_idx()[s];
+            let row_len = l.nnz_per_super()[s];
+            supernodes.push(Supernode {
+                start: narrow(start)?,
+                ncols: narrow(end - start)?,
+                row_start: narrow(row_start)?,
+                row_len: narrow(row_len)?,
+                value_start: l.col_ptr_for_val()[s],
+            });
+        }
+        let rows = l.row_idx().iter().map(|&r| narrow(r)).collect::<Result<Vec<u32>>>()?;
+        // The back-substitutions rely on this structure: check it once here.
+        let mut next_column = 0;
+        let mut well_formed = true;
+        for (k, sn) in supernodes.iter().enumerate() {
+            let (c0, c) = (sn.start as usize, sn.ncols as usize);
+            let (r0, p) = (sn.row_start as usize, sn.row_len as usize);
+            let block = (c + p) * c;
+            let value_end = supernodes.get(k + 1).map_or(l.len_val(), |next| next.value_start);
+            well_formed &= c0 == next_column
+                && c > 0
+                && r0 + p <= rows.len()
+                && sn.value_start + block == value_end
+                && rows[r0..r0 + p].iter().all(|&r| (r as usize) >= c0 + c && (r as usize) < n);
+            next_column = c0 + c;
+        }
+        if !well_formed || next_column != n {
             return Err(Error::Factorization("unexpected factor structure".into()));
         }
+        let max_rows = supernodes.iter().map(|s| s.row_len as usize).max().unwrap_or(0);
         let perm = match cholesky.perm() {
-            Some(p) => narrow(p.arrays().0)?,
-            None => (0..pattern.n as u32).collect(),
+            Some(p) => p.arrays().0.iter().map(|&x| narrow(x)).collect::<Result<Vec<u32>>>()?,
+            None => (0..n as u32).collect(),
         };
-        Ok(Symbolic { pattern, cholesky, l_col_ptr, l_row_idx, perm })
+        Ok(Symbolic { pattern, cholesky, supernodes, rows, perm, max_rows })
     }
 
     /// The pattern this was built for.
@@ -115,9 +148,9 @@ impl Symbolic {
         &self.pattern
     }
 
-    /// The number of stored entries of the Cholesky factor.
+    /// The number of stored entries of the Cholesky factor (dense supernode blocks).
     pub fn factor_nnz(&self) -> usize {
-        self.l_row_idx.len()
+        self.cholesky.len_val()
     }
 }
 
@@ -126,6 +159,7 @@ impl Symbolic {
 pub struct Factor<T, R> {
     values: Vec<T>,
     work: Vec<R>,
+    rows: Vec<R>,
 }
 
 impl<T, R> std::fmt::Debug for Factor<T, R> {
@@ -136,7 +170,9 @@ impl<T, R> std::fmt::Debug for Factor<T, R> {
 
 /// A right-hand-side entry that a factor entry of type `T` can act on: a complex number for
 /// step 1, an `(x, y)` pair for step 2.
-pub trait Rhs<T>: Copy + Default + SubAssign + Mul<f64, Output = Self> + Div<f64, Output = Self> {
+pub trait Rhs<T>:
+    Copy + Default + AddAssign + SubAssign + Mul<f64, Output = Self> + Div<f64, Output = Self>
+{
     /// `l · self`.
     fn times(self, l: T) -> Self;
     /// `conj(l) · self`.
@@ -182,9 +218,11 @@ impl Div<f64> for Pair {
     }
 }
 
-impl MulAssign<f64> for Pair {
-    fn mul_assign(&mut self, s: f64) {
-        *self = *self * s;
+impl AddAssign for Pair {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Pair) {
+        self.0[0] += o.0[0];
+        self.0[1] += o.0[1];
     }
 }
 
@@ -238,40 +276,84 @@ impl<T: Entry, R: Rhs<T>> Factor<T, R> {
             Default::default(),
         )
         .map_err(|e| Error::Factorization(format!("matrix of order {n} is not positive definite ({e:?})")))?;
-        Ok(Factor { values: l, work: vec![R::default(); n] })
+        Ok(Factor { values: l, work: vec![R::default(); n], rows: vec![R::default(); symbolic.max_rows] })
     }
 
     /// Solves `A x = rhs` in place: `x = P (L Lᴴ)⁻¹ Pᵀ rhs`. Streams the factor twice;
     /// no allocation.
     pub fn solve_in_place(&mut self, symbolic: &Symbolic, rhs: &mut [R]) {
-        let (ptr, rows, l, x) = (&symbolic.l_col_ptr, &symbolic.l_row_idx, &self.values, &mut self.work);
+        let (l, x, acc) = (&self.values, &mut self.work, &mut self.rows);
         for (xk, &p) in x.iter_mut().zip(&symbolic.perm) {
             *xk = rhs[p as usize];
         }
-        let n = x.len();
-        assert!(ptr.len() == n + 1 && ptr[n] as usize == rows.len() && rows.len() == l.len());
-        // L y = b, column by column.
-        for j in 0..n {
-            let (a, b) = (ptr[j] as usize, ptr[j + 1] as usize);
-            let xj = x[j] / l[a].re();
-            x[j] = xj;
-            for (&r, &v) in rows[a + 1..b].iter().zip(&l[a + 1..b]) {
-                // SAFETY: every row index of L is below n (checked in `Symbolic::new`).
-                unsafe { *x.get_unchecked_mut(r as usize) -= xj.times(v) };
+        // L y = b, supernode by supernode: the dense diagonal block, then the off-diagonal
+        // rows summed over the block's columns and scattered once.
+        for sn in &symbolic.supernodes {
+            let (c0, c, p) = (sn.start as usize, sn.ncols as usize, sn.row_len as usize);
+            let rows = &symbolic.rows[sn.row_start as usize..][..p];
+            let block = &l[sn.value_start..][..(c + p) * c];
+            let acc = &mut acc[..p];
+            acc.fill(R::default());
+            let (head, tail) = x.split_at_mut(c0 + c);
+            let xs = &mut head[c0..];
+            for (jj, column) in block.chunks_exact(c + p).enumerate() {
+                let xj = xs[jj] / column[jj].re();
+                xs[jj] = xj;
+                for (xi, &v) in xs[jj + 1..].iter_mut().zip(&column[jj + 1..c]) {
+                    *xi -= xj.times(v);
+                }
+                for (a, &v) in acc.iter_mut().zip(&column[c..]) {
+                    *a += xj.times(v);
+                }
+            }
+            let offset = c0 + c;
+            for (&r, &a) in rows.iter().zip(acc.iter()) {
+                tail[r as usize - offset] -= a;
             }
         }
-        // Lᴴ x = y, backwards.
-        for j in (0..n).rev() {
-            let (a, b) = (ptr[j] as usize, ptr[j + 1] as usize);
-            let mut s = x[j];
-            // Backwards through the column: the entries nearest the diagonal, written most
-            // recently, are read last (forwards, this loop ran 3× slower: loads waited on
-            // the stores of the previous columns).
-            for (&r, &v) in rows[a + 1..b].iter().zip(&l[a + 1..b]).rev() {
-                // SAFETY: as above.
-                s -= unsafe { *x.get_unchecked(r as usize) }.times_conj(v);
+        // Lᴴ x = y, backwards: gather the off-diagonal rows once per supernode.
+        for sn in symbolic.supernodes.iter().rev() {
+            let (c0, c, p) = (sn.start as usize, sn.ncols as usize, sn.row_len as usize);
+            let rows = &symbolic.rows[sn.row_start as usize..][..p];
+            let block = &l[sn.value_start..][..(c + p) * c];
+            let acc = &mut acc[..p];
+            let (head, tail) = x.split_at_mut(c0 + c);
+            let offset = c0 + c;
+            for (a, &r) in acc.iter_mut().zip(rows) {
+                *a = tail[r as usize - offset];
             }
-            x[j] = s / l[a].re();
+            let xs = &mut head[c0..];
+            // xs -= Vᴴ acc for the off-diagonal part, four columns at a time so that four
+            // independent sums hide the latency of each.
+            let mut columns = block.chunks_exact(c + p);
+            let mut quads = xs.chunks_exact_mut(4);
+            for xq in &mut quads {
+                let cols = [(); 4].map(|_| &columns.next().expect("c columns")[c..]);
+                let mut sum = [R::default(); 4];
+                for (k, &a) in acc.iter().enumerate() {
+                    for q in 0..4 {
+                        sum[q] += a.times_conj(cols[q][k]);
+                    }
+                }
+                for q in 0..4 {
+                    xq[q] -= sum[q];
+                }
+            }
+            for (xi, column) in quads.into_remainder().iter_mut().zip(columns) {
+                let mut sum = R::default();
+                for (&a, &v) in acc.iter().zip(&column[c..]) {
+                    sum += a.times_conj(v);
+                }
+                *xi -= sum;
+            }
+            // Then the dense triangle of the diagonal block, backwards.
+            for (jj, column) in block.chunks_exact(c + p).enumerate().rev() {
+                let mut s = xs[jj];
+                for (&xi, &v) in xs[jj + 1..].iter().zip(&column[jj + 1..c]) {
+                    s -= xi.times_conj(v);
+                }
+                xs[jj] = s / column[jj].re();
+            }
         }
         for (xk, &p) in x.iter().zip(&symbolic.perm) {
             rhs[p as usize] = *xk;

@@ -630,3 +630,21 @@ fn mesh_edges_agree_with_reference_neighbourhoods() {
         }
     }
 }
+
+/// More handles than `BASIS_MAX_HANDLES`: step 1 is then back-substituted on every update
+/// instead of combined from per-handle solutions; both paths must match the reference.
+#[test]
+fn matches_dense_reference_with_many_handles() {
+    let shape = Grid::new(10, 7).jitter(0.2, 5).shape();
+    let near: Vec<[f64; 2]> = (0..bunraku::arap::BASIS_MAX_HANDLES + 4)
+        .map(|k| [0.5 + (k % 10) as f64, 0.5 + 3.0 * (k / 10) as f64])
+        .collect();
+    let handles = handles_near(&shape, &near);
+    assert!(handles.len() > bunraku::arap::BASIS_MAX_HANDLES);
+    let targets = pose(&handle_points(&shape, &handles), 0.4, 0.05, 3);
+    compare("many handles", &shape, EdgeWeights::Uniform, &handles, &targets);
+    // Exactly at the limit, the basis path.
+    let few = &handles[..bunraku::arap::BASIS_MAX_HANDLES];
+    let targets = pose(&handle_points(&shape, few), 0.4, 0.05, 4);
+    compare("handles at the limit", &shape, EdgeWeights::Uniform, few, &targets);
+}
