@@ -30,7 +30,7 @@ use sprs::TriMat;
 use crate::error::{check_finite, Error, Result};
 use crate::locate::{barycentric, Location, Locator, BOUNDARY_TOLERANCE};
 use crate::mesh::{cross, dot, sub, Mesh};
-use crate::solver::{Factor, Pair, Pattern, Symbolic};
+use crate::solver::{Factor, Pair, Pattern, Quad, Symbolic, Workspace};
 
 /// How the rows of each edge are weighted (section 6, "multiply each row of A and b").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -340,22 +340,34 @@ impl Rest {
             }
         }
         let n = mesh.vertices().len();
-        let mut factor1 = Factor::new(&rest.step1, &v1)?;
+        let factor1 = Factor::new(&rest.step1, &v1)?;
         let step1 = if handles.len() <= BASIS_MAX_HANDLES {
             // Step 1's right-hand side is linear in the targets, so its solution is
             // z' = Σ_h (c_h − centre) g_h with g_h = (A1ᴴA1)⁻¹ w² C1ᴴ e_h: one solve per
-            // handle now, and an update costs n complex multiply-adds per handle.
+            // handle now (four at a time), and an update costs n complex multiply-adds per
+            // handle.
             let mut basis = vec![C64::new(0.0, 0.0); handles.len() * n];
-            for (g, l) in basis.chunks_exact_mut(n.max(1)).zip(&locations) {
-                let tri = mesh.triangles()[l.triangle as usize];
-                for (&v, &weight) in tri.iter().zip(&l.weights) {
-                    g[v as usize] += C64::new(w2 * weight, 0.0);
+            let mut work = Workspace::new(&rest.step1);
+            let mut quad = vec![Quad::default(); n];
+            for (first, group) in locations.chunks(4).enumerate() {
+                quad.fill(Quad::default());
+                for (lane, l) in group.iter().enumerate() {
+                    let tri = mesh.triangles()[l.triangle as usize];
+                    for (&v, &weight) in tri.iter().zip(&l.weights) {
+                        quad[v as usize].0[lane] += C64::new(w2 * weight, 0.0);
+                    }
                 }
-                factor1.solve_in_place(&rest.step1, g);
+                factor1.solve_in_place(&rest.step1, &mut quad, &mut work);
+                for lane in 0..group.len() {
+                    let g = &mut basis[(4 * first + lane) * n..][..n];
+                    for (b, q) in g.iter_mut().zip(&quad) {
+                        *b = q.0[lane];
+                    }
+                }
             }
             Step1::Basis(basis)
         } else {
-            Step1::Solve(factor1)
+            Step1::Solve(factor1, Workspace::new(&rest.step1))
         };
         let factor2 = Factor::new(&rest.step2, &v2)?;
         let vertex_motion = mesh.component_of().iter().map(|&c| motion[c as usize]).collect();
@@ -365,6 +377,7 @@ impl Rest {
             points,
             vertex_motion,
             step1,
+            work2: Workspace::new(&rest.step2),
             factor2,
             z1: vec![C64::new(0.0, 0.0); n],
             xy: vec![Pair::default(); n],
@@ -469,8 +482,8 @@ pub const BASIS_MAX_HANDLES: usize = 16;
 enum Step1 {
     /// `g_h` for every handle, handle-major (`handles × n`).
     Basis(Vec<C64>),
-    /// The factor of `A1ᴴA1`, for many handles.
-    Solve(Factor<C64, C64>),
+    /// The factor of `A1ᴴA1` and its workspace, for many handles.
+    Solve(Factor<C64>, Workspace<C64>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -493,7 +506,8 @@ pub struct Pinned {
     points: Vec<[f64; 2]>,
     vertex_motion: Vec<Motion>,
     step1: Step1,
-    factor2: Factor<f64, Pair>,
+    factor2: Factor<f64>,
+    work2: Workspace<Pair>,
     z1: Vec<C64>,
     xy: Vec<Pair>,
     positions: Vec<[f64; 2]>,
@@ -594,14 +608,14 @@ impl Pinned {
                     }
                 }
             }
-            Step1::Solve(factor1) => {
+            Step1::Solve(factor1, work) => {
                 for (l, t) in self.locations.iter().zip(targets) {
                     let tri = mesh.triangles()[l.triangle as usize];
                     for (&v, &weight) in tri.iter().zip(&l.weights) {
                         self.z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * (w2 * weight);
                     }
                 }
-                factor1.solve_in_place(&rest.step1, &mut self.z1);
+                factor1.solve_in_place(&rest.step1, &mut self.z1, work);
             }
         }
 
@@ -628,7 +642,7 @@ impl Pinned {
                 p[1] += w2 * weight * (t[1] - centre[1]);
             }
         }
-        self.factor2.solve_in_place(&rest.step2, &mut self.xy);
+        self.factor2.solve_in_place(&rest.step2, &mut self.xy, &mut self.work2);
 
         for (v, p) in self.positions.iter_mut().enumerate() {
             *p = match self.vertex_motion[v] {

@@ -154,15 +154,26 @@ impl Symbolic {
     }
 }
 
-/// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern, and the
-/// buffer its solves permute into.
-pub struct Factor<T, R> {
+/// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern.
+pub struct Factor<T> {
     values: Vec<T>,
-    work: Vec<R>,
-    rows: Vec<R>,
 }
 
-impl<T, R> std::fmt::Debug for Factor<T, R> {
+/// The buffers a solve with right-hand-side entries of type `R` works in, allocated once.
+#[derive(Debug)]
+pub struct Workspace<R> {
+    x: Vec<R>,
+    acc: Vec<R>,
+}
+
+impl<R: Copy + Default> Workspace<R> {
+    /// Buffers for solves with `symbolic`'s factors.
+    pub fn new(symbolic: &Symbolic) -> Workspace<R> {
+        Workspace { x: vec![R::default(); symbolic.pattern.n], acc: vec![R::default(); symbolic.max_rows] }
+    }
+}
+
+impl<T> std::fmt::Debug for Factor<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Factor").field("nnz", &self.values.len()).finish()
     }
@@ -237,6 +248,57 @@ impl Rhs<f64> for Pair {
     }
 }
 
+/// Four complex right-hand sides solved together (step 1's per-handle solutions): the
+/// factor is streamed once for all four.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Quad(pub [Complex64; 4]);
+
+impl SubAssign for Quad {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: Quad) {
+        for k in 0..4 {
+            self.0[k] -= o.0[k];
+        }
+    }
+}
+
+impl AddAssign for Quad {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Quad) {
+        for k in 0..4 {
+            self.0[k] += o.0[k];
+        }
+    }
+}
+
+impl Mul<f64> for Quad {
+    type Output = Quad;
+    #[inline(always)]
+    fn mul(self, s: f64) -> Quad {
+        Quad(self.0.map(|z| z * s))
+    }
+}
+
+impl Div<f64> for Quad {
+    type Output = Quad;
+    #[inline(always)]
+    fn div(self, s: f64) -> Quad {
+        Quad(self.0.map(|z| z / s))
+    }
+}
+
+impl Rhs<Complex64> for Quad {
+    #[inline(always)]
+    fn times(self, l: Complex64) -> Self {
+        Quad(self.0.map(|z| l * z))
+    }
+    #[inline(always)]
+    fn times_conj(self, l: Complex64) -> Self {
+        let l = l.conj();
+        Quad(self.0.map(|z| l * z))
+    }
+}
+
 /// Factor entries: the diagonal of a Cholesky factor is real and positive.
 pub trait Entry: ComplexField + Copy {
     /// The real part (the whole value on the diagonal).
@@ -255,10 +317,10 @@ impl Entry for Complex64 {
     }
 }
 
-impl<T: Entry, R: Rhs<T>> Factor<T, R> {
+impl<T: Entry> Factor<T> {
     /// Factorises the matrix whose upper triangle has `values` in `symbolic`'s pattern order.
     /// Fails if the matrix is not numerically positive definite.
-    pub fn new(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T, R>> {
+    pub fn new(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T>> {
         let n = symbolic.pattern.n;
         let a = SparseColMatRef::new(symbolic.pattern.symbolic(), values);
         let chol = &symbolic.cholesky;
@@ -276,13 +338,13 @@ impl<T: Entry, R: Rhs<T>> Factor<T, R> {
             Default::default(),
         )
         .map_err(|e| Error::Factorization(format!("matrix of order {n} is not positive definite ({e:?})")))?;
-        Ok(Factor { values: l, work: vec![R::default(); n], rows: vec![R::default(); symbolic.max_rows] })
+        Ok(Factor { values: l })
     }
 
     /// Solves `A x = rhs` in place: `x = P (L Lᴴ)⁻¹ Pᵀ rhs`. Streams the factor twice;
     /// no allocation.
-    pub fn solve_in_place(&mut self, symbolic: &Symbolic, rhs: &mut [R]) {
-        let (l, x, acc) = (&self.values, &mut self.work, &mut self.rows);
+    pub fn solve_in_place<R: Rhs<T>>(&self, symbolic: &Symbolic, rhs: &mut [R], work: &mut Workspace<R>) {
+        let (l, x, acc) = (&self.values, &mut work.x, &mut work.acc);
         for (xk, &p) in x.iter_mut().zip(&symbolic.perm) {
             *xk = rhs[p as usize];
         }
