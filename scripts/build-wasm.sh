@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Builds the npm package's contents in pkg/:
+#   wasm-pack build --release --target web   (wasm-opt off in Cargo.toml)
+#   wasm-opt -Oz from the npm package binaryen (not Debian's: see DESIGN.md)
+# Skips the build when pkg/ is newer than src/, Cargo.toml, Cargo.lock,
+# package-lock.json and this script (set BUNRAKU_FORCE_BUILD=1 or pass --force to build anyway).
+# Expects scripts/setup.sh to have run.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
+
+OUT=pkg
+WASM="$OUT/bunraku_bg.wasm"
+STAMP="$OUT/.built"   # written last, only after a whole successful build
+
+# The wasm features that rustc (1.95) enables by default for
+# wasm32-unknown-unknown; wasm-opt also reads the module's target_features
+# section (which adds simd128: faer's kernels use it).
+WASM_FEATURES=(
+  --enable-bulk-memory --enable-bulk-memory-opt --enable-nontrapping-float-to-int
+  --enable-sign-ext --enable-mutable-globals --enable-reference-types
+  --enable-multivalue --enable-call-indirect-overlong
+)
+
+force="${BUNRAKU_FORCE_BUILD:-0}"
+[ "${1:-}" = "--force" ] && force=1
+
+up_to_date() {
+  [ -f "$STAMP" ] && [ -f "$WASM" ] && [ -f "$OUT/bunraku.js" ] && [ -f "$OUT/bunraku.d.ts" ] || return 1
+  local newer
+  newer="$(find src Cargo.toml Cargo.lock package-lock.json "$ROOT/scripts/build-wasm.sh" -newer "$STAMP" -print -quit 2>/dev/null)"
+  [ -z "$newer" ]
+}
+
+size_report() {
+  local raw gz
+  raw=$(stat -c %s "$WASM")
+  gz=$(gzip -9 -c "$WASM" | wc -c)
+  log "$WASM: $raw bytes raw, $gz bytes gzipped (gzip -9)"
+}
+
+if [ "$force" != 1 ] && up_to_date; then
+  log "pkg/ is up to date (newer than src/, Cargo.toml, Cargo.lock, package-lock.json); skipping the build"
+  size_report
+  exit 0
+fi
+
+if [ ! -x "$WASM_OPT" ]; then
+  echo "build-wasm: $WASM_OPT not found: run scripts/setup.sh (npm ci) first" >&2
+  exit 1
+fi
+
+rm -f "$STAMP"
+t0=$(now)
+# --mode no-install: use the wasm-bindgen on PATH (installed by setup.sh), and
+# never download one.
+wasm-pack build --release --target web --out-dir "$OUT" --out-name bunraku --mode no-install
+log "wasm-pack build took $(( $(now) - t0 )) s"
+
+t0=$(now)
+before=$(stat -c %s "$WASM")
+"$WASM_OPT" -Oz "${WASM_FEATURES[@]}" --strip-debug --strip-producers --strip-target-features \
+  "$WASM" -o "$WASM.opt"
+mv "$WASM.opt" "$WASM"
+log "wasm-opt -Oz ($("$WASM_OPT" --version | awk '{print $3}')): $before -> $(stat -c %s "$WASM") bytes in $(( $(now) - t0 )) s"
+
+# The top-level package.json is the npm manifest: drop wasm-pack's own.
+rm -f "$OUT/package.json" "$OUT/.gitignore" "$OUT/README.md" "$OUT"/LICENSE*
+if [ -d "$OUT/snippets" ]; then
+  log "warning: $OUT/snippets/ exists (inline JS from wasm-bindgen): add it to \"files\" in package.json"
+fi
+
+# The optimised module must still compile and instantiate with its JS glue.
+node --input-type=module -e '
+  import { readFileSync } from "node:fs";
+  import { initSync } from "./pkg/bunraku.js";
+  initSync({ module: readFileSync("./pkg/bunraku_bg.wasm") });
+'
+log "pkg/bunraku.js + bunraku_bg.wasm instantiate in Node $(node --version)"
+
+touch "$STAMP"
+size_report

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The whole test suite (`npm test`), stopping at the first failure:
+#   1. scripts/setup.sh                    installs what is missing
+#   2. cargo test                          native: unit, integration and doc tests
+#   3. wasm-pack test --node               #[wasm_bindgen_test] tests (tests/web.rs) in Node
+#   4. scripts/build-wasm.sh               the npm package in pkg/ (skipped when up to date)
+#   5. node --test tests/node/*.mjs        Node tests of the built package; every .mjs, .js
+#                                          or .cjs file directly in tests/node/ whose name
+#                                          does not start with "_" is a test file
+# and prints the total of the runners' counts as a last line.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
+
+LOG="$(mktemp -t bunraku-test.XXXXXX)"
+trap 'rm -f "$LOG"' EXIT
+start=$(now)
+
+step() {
+  local name="$1"; shift
+  printf '\n==> %s\n' "$name"
+  local t0=$(now)
+  if ! "$@" 2>&1 | tee -a "$LOG"; then
+    printf '\n==> FAILED: %s (after %s s)\n' "$name" "$(( $(now) - t0 ))" >&2
+    exit 1
+  fi
+  printf '==> %s: done in %s s\n' "$name" "$(( $(now) - t0 ))"
+}
+
+step "setup" bash scripts/setup.sh
+step "cargo test (native)" cargo test
+# --lib --test '*': the library's and the integration tests' test binaries (the
+# #[wasm_bindgen_test] ones run; plain #[test]s run natively above), not the
+# examples nor the doc tests, which `cargo test` already covers natively.
+step "wasm-pack test --node" wasm-pack test --node --mode no-install -- --lib --test '*'
+step "build the wasm package" bash scripts/build-wasm.sh
+
+node_tests=()
+if [ -d tests/node ]; then
+  while IFS= read -r f; do node_tests+=("$f"); done < <(
+    find tests/node -maxdepth 1 -type f \( -name '*.mjs' -o -name '*.js' -o -name '*.cjs' \) ! -name '_*' | sort)
+fi
+if [ ${#node_tests[@]} -eq 0 ]; then
+  printf '\n==> node --test: skipped (no test files in tests/node/)\n'
+else
+  step "node --test tests/node/" node --test "${node_tests[@]}"
+fi
+
+# Totals over cargo's "test result: ok. N passed; M failed; K ignored" lines
+# (native and wasm) and node's "# pass N" / "# fail N" lines.
+read -r passed failed ignored < <(awk '
+  /^test result: / {
+    for (i = 1; i <= NF; i++) {
+      if ($(i+1) ~ /^passed;?$/) p += $i
+      if ($(i+1) ~ /^failed;?$/) f += $i
+      if ($(i+1) ~ /^ignored;?$/) s += $i
+    }
+  }
+  /^# pass [0-9]+$/ { p += $3 }
+  /^# fail [0-9]+$/ { f += $3 }
+  /^# skipped [0-9]+$/ { s += $3 }
+  /^# todo [0-9]+$/ { s += $3 }
+  END { print p + 0, f + 0, s + 0 }
+' "$LOG")
+printf '\n==> all steps passed in %s s\n' "$(( $(now) - start ))"
+echo "total: $passed passed, $failed failed, $ignored skipped"
