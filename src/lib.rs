@@ -21,7 +21,8 @@
 //! # Ok::<(), bunraku::Error>(())
 //! ```
 //!
-//! The core is plain Rust; [`wasm`] (only on `wasm32`) is the JavaScript binding.
+//! The core is plain Rust; the module `wasm` (compiled only for `wasm32`) is the JavaScript
+//! binding.
 
 #![warn(missing_docs)]
 

@@ -132,8 +132,8 @@ impl Puppet {
 
     /// Moves the handles to `targets` (`[x0, y0, …]`, same order as compiled) and returns
     /// the deformed vertex positions `[x0, y0, x1, y1, …]` as a new `Float64Array`. Costs
-    /// two back-substitutions and a rotation fit per edge. Throws on a wrong length or a
-    /// non-finite target.
+    /// a combination of per-handle solutions, a rotation fit per edge and one
+    /// back-substitution. Throws on a wrong length or a non-finite target.
     pub fn update(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
