@@ -29,8 +29,14 @@ pub struct Locator {
 /// boundary: round-off in a point computed on a boundary edge must not reject it.
 pub const BOUNDARY_TOLERANCE: f64 = 1e-9;
 
+/// The most grid entries per triangle, on average, that [`Locator::new`] accepts before it
+/// coarsens the grid.
+pub const MAX_CELL_ENTRIES_PER_TRIANGLE: usize = 16;
+
 impl Locator {
-    /// Builds the grid: about one triangle per cell. O(t).
+    /// Builds the grid: about one triangle per cell. O(t) for well-shaped meshes; when long
+    /// slivers would put a triangle in very many cells, the cells are made coarser until the
+    /// grid holds at most [`MAX_CELL_ENTRIES_PER_TRIANGLE`] entries per triangle on average.
     pub fn new(mesh: &Mesh) -> Locator {
         let tolerance = BOUNDARY_TOLERANCE * mesh.diameter();
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -42,19 +48,33 @@ impl Locator {
         }
         let origin = [lo[0] - tolerance, lo[1] - tolerance];
         let (w, h) = (hi[0] - lo[0] + 2.0 * tolerance, hi[1] - lo[1] + 2.0 * tolerance);
-        let t = mesh.triangles().len() as f64;
-        let cell = ((w * h) / t).sqrt().max(w.max(h) / 4096.0).max(f64::MIN_POSITIVE);
-        let cols = ((w / cell).ceil() as usize).max(1);
-        let rows = ((h / cell).ceil() as usize).max(1);
-        let mut locator = Locator {
-            origin,
-            cell,
-            cols,
-            rows,
-            start: vec![0; cols * rows + 1],
-            items: Vec::new(),
-            tolerance,
-        };
+        let t = mesh.triangles().len();
+        let mut cell = ((w * h) / t as f64).sqrt().max(w.max(h) / 4096.0).max(f64::MIN_POSITIVE);
+        loop {
+            let cols = ((w / cell).ceil() as usize).max(1);
+            let rows = ((h / cell).ceil() as usize).max(1);
+            let locator =
+                Locator { origin, cell, cols, rows, start: Vec::new(), items: Vec::new(), tolerance };
+            let entries: usize = mesh
+                .triangles()
+                .iter()
+                .map(|tri| {
+                    let (c0, c1, r0, r1) = locator.cell_range(mesh, tri);
+                    (c1 - c0 + 1) * (r1 - r0 + 1)
+                })
+                .sum();
+            if entries <= MAX_CELL_ENTRIES_PER_TRIANGLE * t || (cols == 1 && rows == 1) {
+                return locator.filled(mesh);
+            }
+            cell *= 2.0;
+        }
+    }
+
+    /// Fills the grid's cells with the triangles whose bounding boxes reach them.
+    fn filled(mut self, mesh: &Mesh) -> Locator {
+        let (cols, rows) = (self.cols, self.rows);
+        self.start = vec![0; cols * rows + 1];
+        let mut locator = self;
         // Two passes (count, then fill) so that the grid is two flat arrays.
         let ranges: Vec<_> = mesh.triangles().iter().map(|tri| locator.cell_range(mesh, tri)).collect();
         for &(c0, c1, r0, r1) in &ranges {
@@ -169,4 +189,28 @@ fn distance_to_triangle(tri: [[f64; 2]; 3], p: [f64; 2]) -> f64 {
             dot(sub(p, q), sub(p, q)).sqrt()
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fan of long slivers from one apex: on a grid of about one cell per triangle, most
+    /// of them would fill thousands of cells (10⁸ entries for 2·10⁴ triangles).
+    #[test]
+    fn long_slivers_coarsen_the_grid() {
+        let t = 20_000u32;
+        let mut vertices = vec![[0.0, 0.0]];
+        for k in 0..=t {
+            let a = std::f64::consts::FRAC_PI_2 * k as f64 / t as f64;
+            vertices.push([100.0 * a.cos(), 100.0 * a.sin()]);
+        }
+        let triangles = (0..t).map(|k| [0, k + 1, k + 2]).collect();
+        let mesh = Mesh::new(vertices, triangles).unwrap();
+        let locator = Locator::new(&mesh);
+        assert!(locator.items.len() <= MAX_CELL_ENTRIES_PER_TRIANGLE * t as usize, "{}", locator.items.len());
+        let l = locator.locate(&mesh, [50.0, 50.0]).unwrap();
+        let q = mesh.point_at(l.triangle as usize, l.weights);
+        assert!((q[0] - 50.0).abs() < 1e-9 && (q[1] - 50.0).abs() < 1e-9);
+    }
 }

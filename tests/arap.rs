@@ -664,3 +664,27 @@ fn accuracy_does_not_depend_on_distance_from_origin() {
         }
     }
 }
+
+/// A fan of long thin triangles from one apex: their bounding boxes overlap most of the
+/// shape, which would put every triangle into most cells of a fine location grid (t² memory);
+/// the grid coarsens instead, and handles are still located exactly.
+#[test]
+fn a_fan_of_long_slivers_registers_and_locates() {
+    let t = 4000;
+    let mut vertices = vec![[0.0, 0.0]];
+    for k in 0..=t {
+        let a = std::f64::consts::FRAC_PI_2 * k as f64 / t as f64;
+        vertices.push([100.0 * a.cos(), 100.0 * a.sin()]);
+    }
+    let triangles: Vec<[u32; 3]> = (0..t as u32).map(|k| [0, k + 1, k + 2]).collect();
+    let mesh = Mesh::new(vertices, triangles).unwrap();
+    let rest = Rest::register(mesh, Options::default()).unwrap();
+    for p in [[50.0, 50.0], [1.0, 0.001], [70.0, 0.5], [0.3, 90.0]] {
+        let l = rest.locate(p).unwrap_or_else(|| panic!("{p:?} is inside the fan"));
+        let q = rest.mesh().point_at(l.triangle as usize, l.weights);
+        assert!((q[0] - p[0]).abs() < 1e-9 && (q[1] - p[1]).abs() < 1e-9, "{p:?} located at {q:?}");
+    }
+    assert!(rest.locate([80.0, 80.0]).is_none(), "outside the arc");
+    let mut pinned = rest.compile(&[Handle::Point([50.0, 50.0]), Handle::Point([70.0, 0.5])]).unwrap();
+    assert!(pinned.update(&[[50.0, 50.0], [70.0, 0.5]]).is_ok());
+}
