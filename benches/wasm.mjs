@@ -1,6 +1,7 @@
 // Node benchmark of the release wasm build (pkg/): register, compile and update on
 // star-shaped meshes of about 3k, 30k and 100k vertices with 4 handles and a moving drag,
-// the same workload as benches/arap.rs. Prints a Markdown table.
+// the same workload as benches/arap.rs, after 20 untimed updates (V8 tiers the wasm code
+// up from its baseline compiler during the first calls). Prints a Markdown table.
 //
 //   npm run bench             (native and wasm)
 //   node benches/wasm.mjs [--quick]
@@ -60,6 +61,8 @@ for (const target of [3000, 30000, 100000]) {
     const out = new Float64Array(2 * puppet.vertexCount);
     const targets = new Float64Array(handles);
     const update = [];
+    // Warm-up (not timed): V8 first runs the wasm through its baseline compiler.
+    for (let f = 0; f < 20; f++) puppet.updateInto(handles, out);
     for (let f = 0; f < frames; f++) {
       const a = (f / frames) * 2 * Math.PI;
       targets[0] = handles[0] + 0.4 * Math.sin(a);
@@ -77,3 +80,9 @@ for (const target of [3000, 30000, 100000]) {
   }
   mesh.free();
 }
+
+// Shapes: picture → mesh and outline → mesh (benches/meshing.mjs).
+await import("./meshing.mjs");
+
+// Surface flattening (issue 5): 1.5k, 15k and 50k vertices; see benches/flatten.mjs.
+await import("./flatten.mjs");

@@ -33,11 +33,10 @@
 use std::sync::Arc;
 
 use num_complex::Complex64 as C64;
-use sprs::TriMat;
 
 use crate::error::{check_finite, Error, Result};
 use crate::locate::{barycentric, Location, Locator, BOUNDARY_TOLERANCE};
-use crate::mesh::{cross, dot, sub, Mesh};
+use crate::mesh::{cross, dot, sub, Edge, Mesh};
 use crate::solver::{Factor, Pair, Pattern, Quad, Symbolic, Workspace};
 
 /// How the rows of each edge are weighted (section 6, "multiply each row of A and b").
@@ -104,7 +103,7 @@ pub enum Handle {
 /// on the boundary) and the coefficients of the fit `t_k = Σ_m fit[m] · z'[verts[m]]`
 /// (equation 3 solved: `(GᵀG)⁻¹Gᵀ` with `GᵀG = Σ|q|² I` for centred `q`).
 #[derive(Debug, Clone, Copy)]
-struct Stencil {
+pub(crate) struct Stencil {
     verts: [u32; 4],
     len: usize,
     fit: [C64; 4],
@@ -183,11 +182,151 @@ struct RestData {
     mesh: Mesh,
     locator: Locator,
     options: Options,
+    core: Core,
+}
+
+/// What registration computes from the stencils alone, whatever frame their neighbourhoods
+/// were given in (2D deformation: the identity; flattening, section 7: each edge's own
+/// unfolding): the compact edge fits, the normal matrices `L1ᴴL1` (step 1) and `L2ᵀL2`
+/// (step 2) of the edge terms, their orderings and symbolic factorisations.
+#[derive(Debug)]
+pub(crate) struct Core {
+    n: usize,
     edges: Vec<EdgeFit>,
     step1: Symbolic,
     step1_values: Vec<C64>,
     step2: Symbolic,
     step2_values: Vec<f64>,
+}
+
+impl Core {
+    /// Assembles and orders both normal matrices of `n` unknowns from the edges' rows.
+    pub(crate) fn new(n: usize, stencils: &[Stencil]) -> Result<Core> {
+        Core::with_ordering(n, stencils, None)
+    }
+
+    /// [`Core::new`] with a given elimination order for both steps (see
+    /// [`Symbolic::with_ordering`]) instead of AMD.
+    pub(crate) fn with_ordering(n: usize, stencils: &[Stencil], order: Option<&[usize]>) -> Result<Core> {
+        // L1ᴴL1: the upper triangle of Σ_k h_kᴴ h_k over the step-1 rows h_k.
+        let mut t1 = Vec::with_capacity(10 * stencils.len());
+        // L2ᵀL2: the weighted graph Laplacian of the rows ω (z_j − z_i).
+        let mut t2 = Vec::with_capacity(3 * stencils.len());
+        for s in stencils {
+            let h = s.step1_row();
+            for p in 0..s.len {
+                for q in 0..s.len {
+                    let (r, c) = (s.verts[p], s.verts[q]);
+                    if r <= c {
+                        t1.push((r, c, h[p].conj() * h[q]));
+                    }
+                }
+            }
+            let (i, j, w2) = (s.verts[0], s.verts[1], s.weight * s.weight);
+            t2.push((i, i, w2));
+            t2.push((j, j, w2));
+            t2.push((i.min(j), i.max(j), -w2));
+        }
+        let (step1, step1_values) = symbolic_from(n, t1, order)?;
+        let (step2, step2_values) = symbolic_from(n, t2, order)?;
+        Ok(Core {
+            n,
+            edges: stencils.iter().map(Stencil::edge_fit).collect(),
+            step1,
+            step1_values,
+            step2,
+            step2_values,
+        })
+    }
+
+    /// The edge part of step 2's right-hand side `A2ᵀb2` (equations 6–7): each edge's
+    /// similarity fitted to the step-1 result `z1`, normalised to a rotation by
+    /// `1/√(c² + s²)`, applied to `ω² e_k` and scattered to `xy`.
+    fn add_rotated_edges(&self, z1: &[C64], xy: &mut [Pair]) {
+        for s in &self.edges {
+            let t = s.fit(z1);
+            // 1/√(c² + s²) (not hypot: no overflow is possible here, and it is 10× slower).
+            let inverse = 1.0 / t.norm_sqr().sqrt();
+            let rotation = if inverse.is_finite() { t * inverse } else { C64::new(1.0, 0.0) };
+            let b = rotation * s.edge;
+            let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
+            xy[j].0[0] += b.re;
+            xy[j].0[1] += b.im;
+            xy[i].0[0] -= b.re;
+            xy[i].0[1] -= b.im;
+        }
+    }
+
+    /// Compiles and updates in one go for handles on vertices (`pins[h]` to `targets[h]`,
+    /// rows of weight `w`): both numeric factorisations, step 1, the rotation fits and
+    /// step 2. The caller guarantees at least two distinct pins on one connected mesh.
+    pub(crate) fn solve_pinned_vertices(
+        &self,
+        pins: &[u32],
+        targets: &[[f64; 2]],
+        w: f64,
+    ) -> Result<Vec<[f64; 2]>> {
+        let n = self.n;
+        let w2 = w * w;
+        let mut v1 = self.step1_values.clone();
+        let mut v2 = self.step2_values.clone();
+        for &v in pins {
+            let v = v as usize;
+            v1[slot(&self.step1, v, v)] += w2;
+            v2[slot(&self.step2, v, v)] += w2;
+        }
+        let mut centre = [0.0; 2];
+        for t in targets {
+            centre[0] += t[0] / targets.len() as f64;
+            centre[1] += t[1] / targets.len() as f64;
+        }
+        let factor1 = Factor::new(&self.step1, &v1)?;
+        let mut z1 = vec![C64::new(0.0, 0.0); n];
+        for (&v, t) in pins.iter().zip(targets) {
+            z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * w2;
+        }
+        factor1.solve_in_place(&self.step1, &mut z1, &mut Workspace::new(&self.step1));
+        drop(factor1);
+        let factor2 = Factor::new(&self.step2, &v2)?;
+        let mut xy = vec![Pair::default(); n];
+        self.add_rotated_edges(&z1, &mut xy);
+        for (&v, t) in pins.iter().zip(targets) {
+            let p = &mut xy[v as usize].0;
+            p[0] += w2 * (t[0] - centre[0]);
+            p[1] += w2 * (t[1] - centre[1]);
+        }
+        factor2.solve_in_place(&self.step2, &mut xy, &mut Workspace::new(&self.step2));
+        Ok(xy.iter().map(|p| [p.0[0] + centre[0], p.0[1] + centre[1]]).collect())
+    }
+}
+
+/// The rows of every edge (section 4, equation 3), with each neighbourhood's coordinates
+/// given by `local(edge, [i, j, l or r, r])` in any 2D frame of that edge (only the
+/// differences matter): the mesh's own coordinates for 2D deformation, the edge's unfolding
+/// for flattening (section 7). Cotangent weights come from the same coordinates, which
+/// carry the angles opposite the edge.
+pub(crate) fn edge_stencils(
+    edges: &[Edge],
+    weights: EdgeWeights,
+    local: impl Fn(&Edge, [u32; 4]) -> [[f64; 2]; 4],
+) -> Vec<Stencil> {
+    edges
+        .iter()
+        .map(|e| {
+            let mut verts = [e.i, e.j, 0, 0];
+            let mut len = 2;
+            for v in [e.l, e.r].into_iter().flatten() {
+                verts[len] = v;
+                len += 1;
+            }
+            let local = local(e, verts);
+            let weight = match weights {
+                EdgeWeights::Uniform => 1.0,
+                EdgeWeights::Cotangent => cotangent_weight(&local, len),
+            };
+            Stencil::new(verts, local, len, weight)
+        })
+        .collect()
 }
 
 /// A registered rest shape: everything that depends on the mesh alone. Cheap to clone
@@ -201,62 +340,17 @@ impl Rest {
     /// fails. Cost: O(edges) assembly plus the AMD ordering and symbolic factorisations.
     pub fn register(mesh: Mesh, options: Options) -> Result<Rest> {
         check_options(&options)?;
-        let stencils = mesh
-            .edges()
-            .iter()
-            .map(|e| {
-                let (l, r) = (e.l, e.r);
-                let mut verts = [e.i, e.j, 0, 0];
-                let mut len = 2;
-                for v in [l, r].into_iter().flatten() {
-                    verts[len] = v;
-                    len += 1;
-                }
-                let local = verts.map(|v| mesh.vertices()[v as usize]);
-                let weight = match options.weights {
-                    EdgeWeights::Uniform => 1.0,
-                    EdgeWeights::Cotangent => cotangent_weight(&mesh, e.i, e.j, l, r),
-                };
-                Stencil::new(verts, local, len, weight)
-            })
-            .collect();
-        Rest::from_stencils(mesh, options, stencils)
+        // The identity frame: every neighbourhood in the mesh's own coordinates.
+        let stencils = edge_stencils(mesh.edges(), options.weights, |_, verts| {
+            verts.map(|v| mesh.vertices()[v as usize])
+        });
+        Rest::from_stencils(mesh, options, &stencils)
     }
 
-    fn from_stencils(mesh: Mesh, options: Options, stencils: Vec<Stencil>) -> Result<Rest> {
-        let n = mesh.vertices().len();
-        // L1ᴴL1: the upper triangle of Σ_k h_kᴴ h_k over the step-1 rows h_k.
-        let mut t1 = TriMat::with_capacity((n, n), 10 * stencils.len());
-        // L2ᵀL2: the weighted graph Laplacian of the rows ω (z_j − z_i).
-        let mut t2 = TriMat::with_capacity((n, n), 3 * stencils.len());
-        for s in &stencils {
-            let h = s.step1_row();
-            for p in 0..s.len {
-                for q in 0..s.len {
-                    let (r, c) = (s.verts[p] as usize, s.verts[q] as usize);
-                    if r <= c {
-                        t1.add_triplet(r, c, h[p].conj() * h[q]);
-                    }
-                }
-            }
-            let (i, j, w2) = (s.verts[0] as usize, s.verts[1] as usize, s.weight * s.weight);
-            t2.add_triplet(i, i, w2);
-            t2.add_triplet(j, j, w2);
-            t2.add_triplet(i.min(j), i.max(j), -w2);
-        }
-        let (step1, step1_values) = symbolic_from(n, t1)?;
-        let (step2, step2_values) = symbolic_from(n, t2)?;
+    fn from_stencils(mesh: Mesh, options: Options, stencils: &[Stencil]) -> Result<Rest> {
+        let core = Core::new(mesh.vertices().len(), stencils)?;
         let locator = Locator::new(&mesh);
-        Ok(Rest(Arc::new(RestData {
-            mesh,
-            locator,
-            options,
-            edges: stencils.iter().map(Stencil::edge_fit).collect(),
-            step1,
-            step1_values,
-            step2,
-            step2_values,
-        })))
+        Ok(Rest(Arc::new(RestData { mesh, locator, options, core })))
     }
 
     /// The rest mesh.
@@ -271,7 +365,7 @@ impl Rest {
 
     /// The number of stored entries in the Cholesky factors of steps 1 and 2.
     pub fn factor_sizes(&self) -> (usize, usize) {
-        (self.0.step1.factor_nnz(), self.0.step2.factor_nnz())
+        (self.0.core.step1.factor_nnz(), self.0.core.step2.factor_nnz())
     }
 
     /// Locates a rest-space point: its triangle and barycentric weights, or `None` outside
@@ -320,8 +414,8 @@ impl Rest {
             .collect();
 
         let w2 = rest.options.handle_weight * rest.options.handle_weight;
-        let mut v1 = rest.step1_values.clone();
-        let mut v2 = rest.step2_values.clone();
+        let mut v1 = rest.core.step1_values.clone();
+        let mut v2 = rest.core.step2_values.clone();
         for l in &locations {
             let tri = mesh.triangles()[l.triangle as usize];
             for p in 0..3 {
@@ -329,8 +423,8 @@ impl Rest {
                     let (r, c) = (tri[p] as usize, tri[q] as usize);
                     if r <= c {
                         let value = w2 * l.weights[p] * l.weights[q];
-                        v1[slot(&rest.step1, r, c)] += value;
-                        v2[slot(&rest.step2, r, c)] += value;
+                        v1[slot(&rest.core.step1, r, c)] += value;
+                        v2[slot(&rest.core.step2, r, c)] += value;
                     }
                 }
             }
@@ -339,23 +433,23 @@ impl Rest {
         // with any other), so the pattern and its symbolic factorisation stay valid.
         for (v, &c) in mesh.component_of().iter().enumerate() {
             if motion[c as usize] != Motion::Solve {
-                for (k, row) in rest.step1.pattern().column(v) {
+                for (k, row) in rest.core.step1.pattern().column(v) {
                     v1[k] = C64::new(if row == v { 1.0 } else { 0.0 }, 0.0);
                 }
-                for (k, row) in rest.step2.pattern().column(v) {
+                for (k, row) in rest.core.step2.pattern().column(v) {
                     v2[k] = if row == v { 1.0 } else { 0.0 };
                 }
             }
         }
         let n = mesh.vertices().len();
-        let factor1 = Factor::new(&rest.step1, &v1)?;
+        let factor1 = Factor::new(&rest.core.step1, &v1)?;
         let step1 = if handles.len() <= BASIS_MAX_HANDLES {
             // Step 1's right-hand side is linear in the targets, so its solution is
             // z' = Σ_h (c_h − centre) g_h with g_h = (A1ᴴA1)⁻¹ w² C1ᴴ e_h: one solve per
             // handle now (four at a time), and an update costs n complex multiply-adds per
             // handle.
             let mut basis = vec![C64::new(0.0, 0.0); handles.len() * n];
-            let mut work = Workspace::new(&rest.step1);
+            let mut work = Workspace::new(&rest.core.step1);
             let mut quad = vec![Quad::default(); n];
             for (first, group) in locations.chunks(4).enumerate() {
                 quad.fill(Quad::default());
@@ -365,7 +459,7 @@ impl Rest {
                         quad[v as usize].0[lane] += C64::new(w2 * weight, 0.0);
                     }
                 }
-                factor1.solve_in_place(&rest.step1, &mut quad, &mut work);
+                factor1.solve_in_place(&rest.core.step1, &mut quad, &mut work);
                 for lane in 0..group.len() {
                     let g = &mut basis[(4 * first + lane) * n..][..n];
                     for (b, q) in g.iter_mut().zip(&quad) {
@@ -375,9 +469,9 @@ impl Rest {
             }
             Step1::Basis(basis)
         } else {
-            Step1::Solve(factor1, Workspace::new(&rest.step1))
+            Step1::Solve(factor1, Workspace::new(&rest.core.step1))
         };
-        let factor2 = Factor::new(&rest.step2, &v2)?;
+        let factor2 = Factor::new(&rest.core.step2, &v2)?;
         let vertex_motion = mesh.component_of().iter().map(|&c| motion[c as usize]).collect();
         Ok(Pinned {
             rest: self.clone(),
@@ -385,7 +479,7 @@ impl Rest {
             points,
             vertex_motion,
             step1,
-            work2: Workspace::new(&rest.step2),
+            work2: Workspace::new(&rest.core.step2),
             factor2,
             z1: vec![C64::new(0.0, 0.0); n],
             xy: vec![Pair::default(); n],
@@ -394,7 +488,7 @@ impl Rest {
     }
 }
 
-fn check_options(options: &Options) -> Result<()> {
+pub(crate) fn check_options(options: &Options) -> Result<()> {
     let w = options.handle_weight;
     if !(HANDLE_WEIGHT_RANGE.0..=HANDLE_WEIGHT_RANGE.1).contains(&w) {
         return Err(Error::BadOption {
@@ -409,10 +503,57 @@ fn check_options(options: &Options) -> Result<()> {
     Ok(())
 }
 
-fn symbolic_from<T: Clone + std::ops::Add<Output = T>>(n: usize, t: TriMat<T>) -> Result<(Symbolic, Vec<T>)> {
-    let csc: sprs::CsMat<T> = t.to_csc();
-    let (indptr, indices, data) = csc.into_raw_storage();
-    Ok((Symbolic::new(Pattern::new(n, indptr, indices))?, data))
+fn symbolic_from<T: Copy + std::ops::AddAssign>(
+    n: usize,
+    triplets: Vec<(u32, u32, T)>,
+    order: Option<&[usize]>,
+) -> Result<(Symbolic, Vec<T>)> {
+    let (indptr, indices, data) = compressed_columns(n, triplets);
+    Ok((Symbolic::with_ordering(Pattern::new(n, indptr, indices), order)?, data))
+}
+
+/// Compressed sparse columns of `(row, column, value)` triplets, rows sorted within each
+/// column, duplicates summed: a counting sort by column, then a sort within each column.
+fn compressed_columns<T: Copy + std::ops::AddAssign>(
+    n: usize,
+    triplets: Vec<(u32, u32, T)>,
+) -> (Vec<usize>, Vec<usize>, Vec<T>) {
+    let mut count = vec![0usize; n + 1];
+    for &(_, c, _) in &triplets {
+        count[c as usize + 1] += 1;
+    }
+    for k in 0..n {
+        count[k + 1] += count[k];
+    }
+    let mut next = count.clone();
+    let mut bucket: Vec<(u32, T)> = match triplets.first() {
+        Some(&(_, _, v)) => vec![(0, v); triplets.len()],
+        None => Vec::new(),
+    };
+    for (r, c, v) in triplets {
+        bucket[next[c as usize]] = (r, v);
+        next[c as usize] += 1;
+    }
+    let mut indptr = Vec::with_capacity(n + 1);
+    let mut indices = Vec::with_capacity(bucket.len() / 2);
+    let mut data = Vec::with_capacity(bucket.len() / 2);
+    indptr.push(0);
+    for c in 0..n {
+        let column = &mut bucket[count[c]..count[c + 1]];
+        column.sort_unstable_by_key(|&(r, _)| r);
+        for &(r, v) in column.iter() {
+            if indices.len() > *indptr.last().unwrap_or(&0) && indices.last() == Some(&(r as usize)) {
+                if let Some(last) = data.last_mut() {
+                    *last += v;
+                }
+            } else {
+                indices.push(r as usize);
+                data.push(v);
+            }
+        }
+        indptr.push(indices.len());
+    }
+    (indptr, indices, data)
 }
 
 fn slot(symbolic: &Symbolic, r: usize, c: usize) -> usize {
@@ -420,14 +561,14 @@ fn slot(symbolic: &Symbolic, r: usize, c: usize) -> usize {
     symbolic.pattern().slot(r, c).expect("triangle vertex pairs are in the edge pattern")
 }
 
-/// `½(cot ∠ilj + cot ∠irj)`, floored in magnitude at [`MIN_COTANGENT_WEIGHT`].
-fn cotangent_weight(mesh: &Mesh, i: u32, j: u32, l: Option<u32>, r: Option<u32>) -> f64 {
-    let p = |v: u32| mesh.vertices()[v as usize];
-    let cot = |o: u32| {
-        let (a, b) = (sub(p(i), p(o)), sub(p(j), p(o)));
+/// `½(cot ∠ilj + cot ∠irj)` from a neighbourhood's coordinates `[i, j, l or r, r]`,
+/// floored in magnitude at [`MIN_COTANGENT_WEIGHT`].
+fn cotangent_weight(local: &[[f64; 2]; 4], len: usize) -> f64 {
+    let cot = |o: [f64; 2]| {
+        let (a, b) = (sub(local[0], o), sub(local[1], o));
         dot(a, b) / cross(a, b).abs()
     };
-    let w = 0.5 * [l, r].into_iter().flatten().map(cot).sum::<f64>();
+    let w = 0.5 * local[2..len].iter().map(|&o| cot(o)).sum::<f64>();
     if w.abs() < MIN_COTANGENT_WEIGHT {
         MIN_COTANGENT_WEIGHT.copysign(if w == 0.0 { 1.0 } else { w })
     } else {
@@ -623,25 +764,14 @@ impl Pinned {
                         self.z1[v as usize] += C64::new(t[0] - centre[0], t[1] - centre[1]) * (w2 * weight);
                     }
                 }
-                factor1.solve_in_place(&rest.step1, &mut self.z1, work);
+                factor1.solve_in_place(&rest.core.step1, &mut self.z1, work);
             }
         }
 
         // Rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
         self.xy.fill(Pair::default());
+        rest.core.add_rotated_edges(&self.z1, &mut self.xy);
         let xy = &mut self.xy;
-        for s in &rest.edges {
-            let t = s.fit(&self.z1);
-            // 1/√(c² + s²) (not hypot: no overflow is possible here, and it is 10× slower).
-            let inverse = 1.0 / t.norm_sqr().sqrt();
-            let rotation = if inverse.is_finite() { t * inverse } else { C64::new(1.0, 0.0) };
-            let b = rotation * s.edge;
-            let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
-            xy[j].0[0] += b.re;
-            xy[j].0[1] += b.im;
-            xy[i].0[0] -= b.re;
-            xy[i].0[1] -= b.im;
-        }
         for (l, t) in self.locations.iter().zip(targets) {
             let tri = mesh.triangles()[l.triangle as usize];
             for (&v, &weight) in tri.iter().zip(&l.weights) {
@@ -650,7 +780,7 @@ impl Pinned {
                 p[1] += w2 * weight * (t[1] - centre[1]);
             }
         }
-        self.factor2.solve_in_place(&rest.step2, &mut self.xy, &mut self.work2);
+        self.factor2.solve_in_place(&rest.core.step2, &mut self.xy, &mut self.work2);
 
         for (v, p) in self.positions.iter_mut().enumerate() {
             *p = match self.vertex_motion[v] {

@@ -130,6 +130,60 @@ pub enum Error {
         /// Why, naming the loop (`outer outline` or `hole h`) and input indices.
         reason: String,
     },
+    /// An RGBA buffer whose length is not `width × height × 4`.
+    ImageBufferLength {
+        /// The buffer's length, in bytes.
+        len: usize,
+        /// The picture's width, in pixels.
+        width: u32,
+        /// The picture's height, in pixels.
+        height: u32,
+    },
+    /// A picture size that is zero or beyond [`crate::meshing::image::MAX_SIDE`] pixels per
+    /// side or [`crate::meshing::image::MAX_PIXELS`] pixels in all.
+    ImageSize {
+        /// The width given, in pixels.
+        width: u32,
+        /// The height given, in pixels.
+        height: u32,
+    },
+    /// A picture with nothing to mesh: no pixel reaches the alpha threshold, or every
+    /// opaque region is a speck smaller than the minimum area.
+    NoOpaquePixel {
+        /// The alpha threshold used.
+        alpha_threshold: u8,
+        /// How many opaque regions were dropped as specks (0 when no pixel was opaque).
+        specks: usize,
+        /// The minimum area, in pixels, below which a region counts as a speck.
+        min_area: f64,
+    },
+    /// A Wavefront OBJ text that cannot be read.
+    BadObj {
+        /// The 1-based line number (0 when the problem concerns the whole file).
+        line: usize,
+        /// Why.
+        reason: String,
+    },
+    /// A JSON mesh that cannot be read.
+    BadJson {
+        /// Why (serde_json's message, with line and column, or the invalid item).
+        reason: String,
+    },
+    /// A 3D surface whose two triangles of one edge run along it in the same direction:
+    /// the triangles are not oriented consistently (flattening, [`crate::flatten()`]).
+    InconsistentOrientation {
+        /// Smaller vertex index of the edge.
+        i: u32,
+        /// Larger vertex index of the edge.
+        j: u32,
+    },
+    /// A 3D surface that is not a topological disc (closed, several components, several
+    /// boundary loops, a pinched vertex, Euler characteristic other than 1): flattening
+    /// needs a disc ([`crate::flatten()`]).
+    NotADisc {
+        /// Why, with the counts or the offending vertex.
+        reason: String,
+    },
 }
 
 impl fmt::Display for Error {
@@ -176,6 +230,42 @@ impl fmt::Display for Error {
             }
             Error::Factorization(why) => write!(f, "factorisation failed: {why}"),
             Error::BadOutline { reason } => write!(f, "bad outline: {reason}"),
+            Error::InconsistentOrientation { i, j } => write!(
+                f,
+                "the two triangles of edge ({i}, {j}) run along it in the same direction: orient all triangles consistently"
+            ),
+            Error::NotADisc { reason } => write!(f, "the surface is not a topological disc: {reason}"),
+            Error::ImageBufferLength { len, width, height } => {
+                let expected = (*width as u128) * (*height as u128) * 4;
+                write!(
+                    f,
+                    "picture: the RGBA buffer has {len} bytes, but width × height × 4 = {width} × {height} × 4 = {expected}"
+                )
+            }
+            Error::ImageSize { width, height } => write!(
+                f,
+                "picture: size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
+                crate::meshing::image::MAX_SIDE,
+                crate::meshing::image::MAX_PIXELS
+            ),
+            Error::NoOpaquePixel { alpha_threshold, specks, min_area } => {
+                if *specks == 0 {
+                    write!(f, "picture: no pixel has an alpha of at least {alpha_threshold}: nothing to mesh")
+                } else {
+                    write!(
+                        f,
+                        "picture: all {specks} opaque regions (alpha ≥ {alpha_threshold}) are smaller than minArea = {min_area} pixels: nothing to mesh"
+                    )
+                }
+            }
+            Error::BadObj { line, reason } => {
+                if *line == 0 {
+                    write!(f, "OBJ: {reason}")
+                } else {
+                    write!(f, "OBJ line {line}: {reason}")
+                }
+            }
+            Error::BadJson { reason } => write!(f, "mesh JSON: {reason}"),
         }
     }
 }

@@ -28,14 +28,18 @@
 
 pub mod arap;
 pub mod error;
+pub mod flatten;
 pub mod locate;
 pub mod mesh;
 pub mod meshing;
+pub mod quality;
 mod solver;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
 pub use arap::{EdgeWeights, Handle, Options, Pinned, Rest};
 pub use error::{Error, Result};
+pub use flatten::{flatten, FlattenOptions, Flattening, Pin, Surface};
 pub use locate::Location;
 pub use mesh::{Edge, Mesh};
+pub use quality::{Quality, Summary, TriangleQuality};

@@ -165,7 +165,7 @@ impl Mesh {
     }
 }
 
-fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
+pub(crate) fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
     let mut keyed: Vec<([u32; 3], usize)> = triangles
         .iter()
         .enumerate()
@@ -185,7 +185,7 @@ fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
 }
 
 /// Builds the undirected edges by sorting the triangles' directed half-edges.
-fn build_edges(triangles: &[[u32; 3]]) -> Result<Vec<Edge>> {
+pub(crate) fn build_edges(triangles: &[[u32; 3]]) -> Result<Vec<Edge>> {
     // (i, j, third vertex, whether i → j runs counter-clockwise in that triangle)
     let mut half: Vec<(u32, u32, u32, bool)> = Vec::with_capacity(3 * triangles.len());
     for tri in triangles {
@@ -221,7 +221,7 @@ fn build_edges(triangles: &[[u32; 3]]) -> Result<Vec<Edge>> {
 }
 
 /// Labels connected components with a union-find over the edges.
-fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
+pub(crate) fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
     let mut parent: Vec<u32> = (0..n as u32).collect();
     fn find(parent: &mut [u32], mut x: u32) -> u32 {
         while parent[x as usize] != x {

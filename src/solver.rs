@@ -39,7 +39,7 @@ pub struct Pattern {
 }
 
 impl Pattern {
-    /// Wraps compressed-column arrays (as sprs produces them).
+    /// Wraps compressed-column arrays (rows sorted within each column, no duplicates).
     pub fn new(n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Pattern {
         Pattern { n, col_ptr, row_idx }
     }
@@ -88,15 +88,34 @@ pub struct Symbolic {
 }
 
 impl Symbolic {
-    /// Orders (AMD) and factorises `pattern` symbolically, supernodally.
-    pub fn new(pattern: Pattern) -> Result<Symbolic> {
+    /// Orders and factorises `pattern` symbolically, supernodally: with AMD when `order` is
+    /// `None`, else with the given elimination order (`order[k]`: the unknown eliminated
+    /// `k`-th, a permutation of `0..n`).
+    pub fn with_ordering(pattern: Pattern, order: Option<&[usize]>) -> Result<Symbolic> {
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let cholesky =
-            factorize_symbolic_cholesky(pattern.symbolic(), Side::Upper, SymmetricOrdering::Amd, params)
-                .map_err(|e| Error::Factorization(format!("{e:?}")))?;
+        let inverse: Vec<usize>;
+        let ordering = match order {
+            None => SymmetricOrdering::Amd,
+            Some(order) => {
+                let mut inv = vec![usize::MAX; pattern.n];
+                for (k, &v) in order.iter().enumerate() {
+                    if v >= pattern.n || inv[v] != usize::MAX {
+                        return Err(Error::Factorization("the ordering is not a permutation".into()));
+                    }
+                    inv[v] = k;
+                }
+                if order.len() != pattern.n {
+                    return Err(Error::Factorization("the ordering is not a permutation".into()));
+                }
+                inverse = inv;
+                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(order, &inverse, pattern.n))
+            }
+        };
+        let cholesky = factorize_symbolic_cholesky(pattern.symbolic(), Side::Upper, ordering, params)
+            .map_err(|e| Error::Factorization(format!("{e:?}")))?;
         let SymbolicCholeskyRaw::Supernodal(l) = cholesky.raw() else {
             return Err(Error::Factorization("expected a supernodal factorisation".into()));
         };

@@ -4,11 +4,11 @@
 //! serde-wasm-bindgen, and every [`crate::Error`] turned into a JS `Error` whose message
 //! names the offending index or value. A failed call leaves the object as it was.
 
-use js_sys::{Float64Array, Uint32Array};
+use js_sys::{Float32Array, Float64Array, Uint32Array};
 use serde::Deserialize;
 use wasm_bindgen::prelude::*;
 
-use crate::meshing::{mesh_outline, OutlineOptions};
+use crate::meshing::{mesh_image, read_obj, shape_from_outline, ImageOptions, OutlineOptions, ShapeMesh};
 use crate::{EdgeWeights, Error, Handle, Mesh, Options, Pinned, Rest};
 
 fn js_error(e: Error) -> JsError {
@@ -262,11 +262,61 @@ fn check_keys(options: &JsValue, known: &[&str]) -> Result<(), JsError> {
     Ok(())
 }
 
-/// A validated triangle mesh, made from an outline (or, later, a picture); its `vertices`
-/// and `triangles` feed `Puppet.register`.
+#[derive(Deserialize, Default)]
+#[serde(rename_all = "camelCase")]
+struct JsImageOptions {
+    alpha_threshold: Option<f64>,
+    margin: Option<f64>,
+    spacing: Option<f64>,
+    max_vertices: Option<usize>,
+    min_angle: Option<f64>,
+    simplify: Option<f64>,
+    min_area: Option<f64>,
+}
+
+fn parse_image_options(options: JsValue) -> Result<ImageOptions, JsError> {
+    let mut o = ImageOptions::default();
+    if options.is_undefined() || options.is_null() {
+        return Ok(o);
+    }
+    check_keys(
+        &options,
+        &["alphaThreshold", "margin", "spacing", "maxVertices", "minAngle", "simplify", "minArea"],
+    )?;
+    let js: JsImageOptions =
+        serde_wasm_bindgen::from_value(options).map_err(|e| JsError::new(&format!("options: {e}")))?;
+    if let Some(t) = js.alpha_threshold {
+        if !(t.fract() == 0.0 && (1.0..=255.0).contains(&t)) {
+            return Err(js_error(Error::BadOption {
+                name: "alphaThreshold",
+                reason: format!("{t} is not an integer from 1 to 255"),
+            }));
+        }
+        o.alpha_threshold = t as u8;
+    }
+    if let Some(m) = js.margin {
+        o.margin = m;
+    }
+    o.spacing = js.spacing;
+    o.max_vertices = js.max_vertices;
+    if let Some(a) = js.min_angle {
+        o.min_angle_deg = a;
+    }
+    if let Some(t) = js.simplify {
+        o.simplify = t;
+    }
+    if let Some(a) = js.min_area {
+        o.min_area = a;
+    }
+    Ok(o)
+}
+
+/// A validated triangle mesh made from an outline, a picture, an OBJ file or JSON, with
+/// texture coordinates and boundary loops; its `vertices` and `triangles` feed
+/// `Puppet.register`.
 #[wasm_bindgen(js_name = Mesh)]
 pub struct JsMesh {
-    mesh: Mesh,
+    shape: ShapeMesh,
 }
 
 #[wasm_bindgen(js_class = Mesh)]
@@ -277,7 +327,8 @@ impl JsMesh {
     /// in the points' units; default: the outline's bounding-box diagonal / 40)`, minAngle?:
     /// number` (degrees, default 30, at most 33)`, maxVertices?: number }`. Throws on
     /// self-intersecting outlines (naming the crossing segments), misplaced holes, non-finite
-    /// points and bad options.
+    /// points and bad options. `uvs` are the positions normalised by the outline's bounding
+    /// box (`u = (x − xMin) / (xMax − xMin)`, `v = (y − yMin) / (yMax − yMin)`).
     #[wasm_bindgen(js_name = fromOutline)]
     pub fn from_outline(
         outer: &[f64],
@@ -312,31 +363,293 @@ impl JsMesh {
             }
             o.max_vertices = js.max_vertices;
         }
-        let mesh = mesh_outline(&outer, &hole_points, &o).map_err(js_error)?;
-        Ok(JsMesh { mesh })
+        let shape = shape_from_outline(&outer, &hole_points, &o).map_err(js_error)?;
+        Ok(JsMesh { shape })
+    }
+
+    /// Meshes the opaque part of a picture: `rgba` (a `Uint8Array` or `Uint8ClampedArray`,
+    /// e.g. `ImageData.data`) holds `width × height` pixels of 4 bytes, row by row from the
+    /// top; only alpha is read. Vertices are in pixels (x right, y down, origin at the
+    /// top-left corner), `uvs` are `(x / width, y / height)`. `options` (lengths in pixels):
+    /// `{ alphaThreshold?: number` (opaque when alpha ≥ it; default 128)`, margin?: number`
+    /// (grown beyond the opaque pixels, never beyond the picture; default 2)`, spacing?:
+    /// number` (target edge length; default: about 2000 vertices, at least 2 px)`,
+    /// maxVertices?: number, minAngle?: number` (degrees, default 30)`, simplify?: number`
+    /// (contour tolerance, default 1)`, minArea?: number` (smaller opaque regions are dropped
+    /// and smaller holes filled, in pixels; default 16)` }`. Throws on a buffer whose length
+    /// is not `width × height × 4`, a side of 0 or above 16384 (or more than 2²⁶ pixels), a
+    /// picture with nothing opaque, and bad options.
+    #[wasm_bindgen(js_name = fromImage)]
+    pub fn from_image(
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array | Uint8ClampedArray")] rgba: JsValue,
+        width: u32,
+        height: u32,
+        #[wasm_bindgen(
+            unchecked_param_type = "{ alphaThreshold?: number, margin?: number, spacing?: number, maxVertices?: number, minAngle?: number, simplify?: number, minArea?: number }"
+        )]
+        options: JsValue,
+    ) -> Result<JsMesh, JsError> {
+        let bytes = if let Some(a) = rgba.dyn_ref::<js_sys::Uint8Array>() {
+            a.to_vec()
+        } else if let Some(a) = rgba.dyn_ref::<js_sys::Uint8ClampedArray>() {
+            a.to_vec()
+        } else {
+            return Err(JsError::new("rgba: expected a Uint8Array or a Uint8ClampedArray"));
+        };
+        let o = parse_image_options(options)?;
+        let shape = mesh_image(&bytes, width, height, &o).map_err(js_error)?;
+        Ok(JsMesh { shape })
+    }
+
+    /// Reads a Wavefront OBJ text: `v x y [z]` lines (all with the same z, which is
+    /// dropped; a 3D surface is rejected), `vt` lines, `f` lines with `v`, `v/vt`, `v//vn` or
+    /// `v/vt/vn` corners (1-based or negative indices), polygons fanned into triangles from
+    /// their first corner; other statements are ignored, as are vertices no face uses.
+    /// `uvs` are the `vt`s when each vertex has exactly one, else as for `fromOutline`.
+    /// Throws an `Error` naming the line.
+    #[wasm_bindgen(js_name = fromOBJ)]
+    pub fn from_obj(text: &str) -> Result<JsMesh, JsError> {
+        Ok(JsMesh { shape: read_obj(text).map_err(js_error)? })
+    }
+
+    /// Reads a mesh from JSON: the text `toJSON` describes (or the object itself, e.g. what
+    /// `toJSON()` returned). `uvs` may be left out; `boundary` is recomputed. Validated like
+    /// `Puppet.register`; throws an `Error` naming the problem.
+    #[wasm_bindgen(js_name = fromJSON)]
+    pub fn from_json(
+        #[wasm_bindgen(unchecked_param_type = "string | object")] json: JsValue,
+    ) -> Result<JsMesh, JsError> {
+        let bad = |reason: String| js_error(Error::BadJson { reason });
+        let object = match json.as_string() {
+            Some(text) => js_sys::JSON::parse(&text).map_err(|e| {
+                bad(e.dyn_into::<js_sys::Error>().map(|e| e.message().into()).unwrap_or_default())
+            })?,
+            None => json,
+        };
+        let Some(fields) = object.dyn_ref::<js_sys::Object>() else {
+            return Err(bad("expected a string or an object".into()));
+        };
+        // serde-wasm-bindgen reads only the fields it knows: name an unknown one here.
+        for key in js_sys::Object::keys(fields).iter() {
+            let key = key.as_string().unwrap_or_default();
+            if !["vertices", "triangles", "uvs", "boundary"].contains(&key.as_str()) {
+                return Err(bad(format!(
+                    "unknown field {key:?} (known: vertices, triangles, uvs, boundary)"
+                )));
+            }
+        }
+        let data = serde_wasm_bindgen::from_value(object).map_err(|e| bad(e.to_string()))?;
+        Ok(JsMesh { shape: ShapeMesh::from_json_data(data).map_err(js_error)? })
+    }
+
+    /// The mesh as a plain object `{ vertices: [[x, y], …], triangles: [[a, b, c], …], uvs:
+    /// [[u, v], …], boundary: [[i, j, …], …] }`, so that `JSON.stringify(mesh)` writes it
+    /// and `Mesh.fromJSON(text)` reads it back exactly.
+    #[wasm_bindgen(js_name = toJSON)]
+    pub fn to_json(&self) -> Result<JsValue, JsError> {
+        serde_wasm_bindgen::to_value(&self.shape.json_ref())
+            .map_err(|e| JsError::new(&format!("mesh JSON: could not encode ({e})")))
     }
 
     /// The vertices `[x0, y0, …]`.
     #[wasm_bindgen(getter)]
     pub fn vertices(&self) -> Float64Array {
-        Float64Array::from(self.mesh.vertices().as_flattened())
+        Float64Array::from(self.shape.mesh().vertices().as_flattened())
     }
 
-    /// The triangles `[a0, b0, c0, …]`, counter-clockwise.
+    /// The triangles `[a0, b0, c0, …]`, counter-clockwise (in the vertices' coordinates).
     #[wasm_bindgen(getter)]
     pub fn triangles(&self) -> Uint32Array {
-        Uint32Array::from(self.mesh.triangles().as_flattened())
+        Uint32Array::from(self.shape.mesh().triangles().as_flattened())
+    }
+
+    /// The texture coordinates `[u0, v0, u1, v1, …]`, one pair per vertex: from a picture
+    /// `(x / width, y / height)`; from an outline the position normalised by the bounding
+    /// box; from OBJ the `vt`s when each vertex has exactly one.
+    #[wasm_bindgen(getter)]
+    pub fn uvs(&self) -> Float32Array {
+        Float32Array::from(self.shape.uvs().as_flattened())
+    }
+
+    /// The boundary loops: an array of `Uint32Array`s of vertex indices, each loop closed
+    /// implicitly, oriented like the triangles (around the shape the same way as the
+    /// triangles, around holes the other way).
+    #[wasm_bindgen(getter, unchecked_return_type = "Uint32Array[]")]
+    pub fn boundary(&self) -> js_sys::Array {
+        self.shape.boundary().iter().map(|l| JsValue::from(Uint32Array::from(&l[..]))).collect()
     }
 
     /// The number of vertices.
     #[wasm_bindgen(getter, js_name = vertexCount)]
     pub fn vertex_count(&self) -> usize {
-        self.mesh.vertices().len()
+        self.shape.mesh().vertices().len()
     }
 
     /// The number of triangles.
     #[wasm_bindgen(getter, js_name = triangleCount)]
     pub fn triangle_count(&self) -> usize {
-        self.mesh.triangles().len()
+        self.shape.mesh().triangles().len()
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Surface flattening and distortion measures (issue 5; Igarashi & Igarashi 2009, section 7).
+// Kept in one block at the end of the file.
+
+/// Sets `key` on `object` (a fresh plain object: this cannot fail).
+fn set(object: &js_sys::Object, key: &str, value: &JsValue) {
+    let _ = js_sys::Reflect::set(object, &JsValue::from_str(key), value);
+}
+
+fn summary_object(s: &crate::quality::Summary) -> js_sys::Object {
+    let o = js_sys::Object::new();
+    for (key, value) in
+        [("min", s.min), ("max", s.max), ("mean", s.mean), ("p50", s.p50), ("p95", s.p95), ("p99", s.p99)]
+    {
+        set(&o, key, &value.into());
+    }
+    o
+}
+
+/// `{ isometric, conformal, areaRatio, edgeStrain: { min, max, mean, p50, p95, p99 },
+/// flipped: number, perTriangle: { sigma1, sigma2, isometric, conformal, areaRatio:
+/// Float64Array, flipped: Uint8Array } }`.
+fn quality_object(q: &crate::quality::Quality) -> JsValue {
+    let o = js_sys::Object::new();
+    set(&o, "isometric", &summary_object(&q.isometric));
+    set(&o, "conformal", &summary_object(&q.conformal));
+    set(&o, "areaRatio", &summary_object(&q.area_ratio));
+    set(&o, "edgeStrain", &summary_object(&q.edge_strain));
+    set(&o, "flipped", &(q.flipped as f64).into());
+    let per = js_sys::Object::new();
+    let column = |f: fn(&crate::quality::TriangleQuality) -> f64| {
+        let v: Vec<f64> = q.triangles.iter().map(f).collect();
+        Float64Array::from(v.as_slice())
+    };
+    set(&per, "sigma1", &column(|t| t.sigma[0]));
+    set(&per, "sigma2", &column(|t| t.sigma[1]));
+    set(&per, "isometric", &column(|t| t.isometric));
+    set(&per, "conformal", &column(|t| t.conformal));
+    set(&per, "areaRatio", &column(|t| t.area_ratio));
+    let flipped: Vec<u8> = q.triangles.iter().map(|t| t.flipped as u8).collect();
+    set(&per, "flipped", &js_sys::Uint8Array::from(flipped.as_slice()));
+    set(&o, "perTriangle", &per);
+    o.into()
+}
+
+fn parse_flatten_options(options: &JsValue) -> Result<crate::flatten::FlattenOptions, JsError> {
+    let mut o = crate::flatten::FlattenOptions::default();
+    if options.is_undefined() || options.is_null() {
+        return Ok(o);
+    }
+    if !options.is_object() {
+        return Err(JsError::new(
+            "options: expected { weights?: \"uniform\" | \"cotangent\", handleWeight?: number, pins?: Uint32Array, targets?: Float64Array }",
+        ));
+    }
+    check_keys(options, &["weights", "handleWeight", "pins", "targets"])?;
+    let get =
+        |key: &str| js_sys::Reflect::get(options, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+    let weights = get("weights");
+    if !weights.is_undefined() {
+        o.weights = match weights.as_string().as_deref() {
+            Some("uniform") => EdgeWeights::Uniform,
+            Some("cotangent") => EdgeWeights::Cotangent,
+            _ => return Err(JsError::new("options: weights must be \"uniform\" or \"cotangent\"")),
+        };
+    }
+    let handle_weight = get("handleWeight");
+    if !handle_weight.is_undefined() {
+        o.handle_weight =
+            handle_weight.as_f64().ok_or_else(|| JsError::new("options: handleWeight must be a number"))?;
+    }
+    let (pins, targets) = (get("pins"), get("targets"));
+    match (pins.is_undefined(), targets.is_undefined()) {
+        (true, true) => {}
+        (false, false) => {
+            let pins = pins
+                .dyn_ref::<Uint32Array>()
+                .ok_or_else(|| JsError::new("options: pins must be a Uint32Array of vertex indices"))?
+                .to_vec();
+            let mut points = vec![[0.0; 2]; pins.len()];
+            read_points("targets", &targets, &mut points)?;
+            o.pins = pins
+                .into_iter()
+                .zip(points)
+                .map(|(vertex, target)| crate::flatten::Pin { vertex, target })
+                .collect();
+        }
+        _ => {
+            return Err(JsError::new(
+                "options: pins and targets go together (vertex indices and their 2D targets)",
+            ))
+        }
+    }
+    Ok(o)
+}
+
+/// Flattens a 3D triangle mesh that is a topological disc into the plane as rigidly as
+/// possible (Igarashi & Igarashi 2009, section 7).
+///
+/// `vertices3` is `[x0, y0, z0, x1, …]`, `triangles` `[a0, b0, c0, …]`, consistently
+/// oriented (seen from the side their normals point to, triangles keep their
+/// counter-clockwise order in the result: never mirrored). `options`: `{ weights?:
+/// "uniform" | "cotangent"` (default cotangent, from the 3D angles)`, handleWeight?:
+/// number, pins?: Uint32Array, targets?: Float64Array }` (two or more pinned vertices and
+/// their `[x, y, …]` targets; default: the edge nearest the centroid, its lower-index end at
+/// (0, 0), the other on +x at its 3D length).
+///
+/// Returns `{ positions: Float64Array` (`[x0, y0, …]`)`, pins: Uint32Array, quality }`
+/// with `quality` as in `Puppet.quality()`. Throws when the surface is closed, not a disc
+/// (several components or boundary loops, handles), degenerate, non-manifold or
+/// inconsistently oriented, naming the offending item.
+#[wasm_bindgen(js_name = flatten, unchecked_return_type = "{ positions: Float64Array, pins: Uint32Array, quality: Quality }")]
+pub fn flatten_surface(
+    vertices3: &[f64],
+    triangles: &[u32],
+    #[wasm_bindgen(
+        unchecked_param_type = "{ weights?: \"uniform\" | \"cotangent\", handleWeight?: number, pins?: Uint32Array, targets?: Float64Array }"
+    )]
+    options: JsValue,
+) -> Result<JsValue, JsError> {
+    let options = parse_flatten_options(&options)?;
+    let surface = crate::flatten::Surface::from_flat(vertices3, triangles).map_err(js_error)?;
+    let result = crate::flatten::flatten(&surface, &options).map_err(js_error)?;
+    let o = js_sys::Object::new();
+    set(&o, "positions", &Float64Array::from(result.positions.as_flattened()));
+    let pins: Vec<u32> = result.pins.iter().map(|p| p.vertex).collect();
+    set(&o, "pins", &Uint32Array::from(pins.as_slice()));
+    set(&o, "quality", &quality_object(&result.quality));
+    Ok(o.into())
+}
+
+#[wasm_bindgen(typescript_custom_section)]
+const QUALITY_TS: &str = r#"
+/** Order statistics of one distortion measure (percentiles by nearest rank). */
+export interface QualitySummary { min: number; max: number; mean: number; p50: number; p95: number; p99: number }
+/** Distortion of a 2D result against its rest shape: per triangle, the signed singular values
+ *  σ1 ≥ |σ2| of the deformation gradient, isometric error (σ1 − 1)² + (σ2 − 1)², conformal
+ *  error ½(σ1 − σ2)², signed area ratio, flipped (signed area ≤ 0); edge strain |ℓ′/ℓ − 1|. */
+export interface Quality {
+  isometric: QualitySummary; conformal: QualitySummary; areaRatio: QualitySummary; edgeStrain: QualitySummary;
+  flipped: number;
+  perTriangle: { sigma1: Float64Array; sigma2: Float64Array; isometric: Float64Array; conformal: Float64Array; areaRatio: Float64Array; flipped: Uint8Array };
+}
+"#;
+
+#[wasm_bindgen]
+impl Puppet {
+    /// The distortion of the current positions (the last update; the rest shape before the
+    /// first) against the rest shape: `{ isometric, conformal, areaRatio, edgeStrain:
+    /// { min, max, mean, p50, p95, p99 }, flipped, perTriangle: { sigma1, sigma2,
+    /// isometric, conformal, areaRatio: Float64Array, flipped: Uint8Array } }`.
+    #[wasm_bindgen(unchecked_return_type = "Quality")]
+    pub fn quality(&self) -> Result<JsValue, JsError> {
+        let positions = match &self.pinned {
+            Some(p) => p.positions(),
+            None => self.rest.mesh().vertices(),
+        };
+        let q = crate::quality::quality_2d(self.rest.mesh(), positions).map_err(js_error)?;
+        Ok(quality_object(&q))
     }
 }

@@ -1,0 +1,212 @@
+//! A reader for Wavefront OBJ meshes, for users who bring their own mesh.
+//!
+//! ```
+//! use bunraku::meshing::read_obj;
+//! let shape = read_obj("v 0 0\nv 1 0\nv 1 1\nv 0 1\nf 1 2 3 4\n")?;
+//! assert_eq!(shape.mesh().triangles().len(), 2); // the quad, fanned
+//! # Ok::<(), bunraku::Error>(())
+//! ```
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::meshing::shape::{box_uvs, ShapeMesh};
+
+/// Reads a Wavefront OBJ text into a [`ShapeMesh`].
+///
+/// * `v x y [z [w]]`: a vertex. bunraku meshes are planar: **every vertex must have the same
+///   z** (a missing z counts as 0; equal within 10⁻⁹ relative), which is then dropped; a
+///   3D surface is rejected (it needs flattening first), naming the line.
+/// * `vt u [v [w]]`: a texture coordinate.
+/// * `f a b c …`: a face of 3 or more corners, each `v`, `v/vt`, `v//vn` or `v/vt/vn`,
+///   1-based or negative (relative to the last element read so far, `-1` being the last);
+///   polygons are fanned into triangles from their first corner (so they should be convex).
+/// * Comments (`#`) and every other statement (`vn`, `o`, `g`, `s`, `usemtl`, `mtllib`,
+///   `l`, `p`, …) are ignored.
+///
+/// Vertices no face uses are dropped (the others keep their order), so indices in the
+/// mesh are the file's 1-based indices minus 1 only when every vertex is used. Texture
+/// coordinates: the `vt`s when every face corner names one and each vertex gets a single one;
+/// otherwise the positions normalised by the bounding box (see [`ShapeMesh::uvs`]).
+///
+/// Errors: [`Error::BadObj`] naming the 1-based line (a malformed number, a non-finite
+/// coordinate, a bad or out-of-range index, a face with fewer than 3 corners, a vertex off
+/// the plane, a degenerate or repeated fan triangle, no face at all), or naming the vertices
+/// (1-based, as in the file) of an edge shared by more than two triangles or folded over.
+/// O(size of the text + t log t).
+pub fn read_obj(text: &str) -> Result<ShapeMesh> {
+    let mut positions: Vec<[f64; 2]> = Vec::new();
+    let mut plane: Option<(f64, usize)> = None;
+    let mut texcoords: Vec<[f32; 2]> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut corner_vt: Vec<[Option<u32>; 3]> = Vec::new();
+    let mut tri_line: Vec<usize> = Vec::new();
+    for (n, raw) in text.lines().enumerate() {
+        let line = n + 1;
+        let bad = |reason: String| Error::BadObj { line, reason };
+        let content = raw.split('#').next().unwrap_or("");
+        let mut tokens = content.split_whitespace();
+        let Some(keyword) = tokens.next() else { continue };
+        let number = |t: &str, what: &str| -> Result<f64> {
+            let v: f64 = t.parse().map_err(|_| bad(format!("{what}: {t:?} is not a number")))?;
+            if !v.is_finite() {
+                return Err(bad(format!("{what}: {t} is not finite")));
+            }
+            Ok(v)
+        };
+        match keyword {
+            "v" => {
+                let values: Vec<&str> = tokens.collect();
+                if values.len() < 2 || values.len() > 4 {
+                    return Err(bad(format!(
+                        "a vertex needs 2 to 4 numbers (x y [z [w]]), got {}",
+                        values.len()
+                    )));
+                }
+                let x = number(values[0], "vertex x")?;
+                let y = number(values[1], "vertex y")?;
+                let z = match values.get(2) {
+                    Some(t) => number(t, "vertex z")?,
+                    None => 0.0,
+                };
+                match plane {
+                    None => plane = Some((z, line)),
+                    Some((z0, first)) => {
+                        if (z - z0).abs() > 1e-9 * z0.abs().max(z.abs()).max(1.0) {
+                            return Err(bad(format!(
+                                "vertex {} has z = {z}, but the vertex on line {first} has z = {z0}: bunraku meshes are planar (a 3D surface needs flattening first)",
+                                positions.len() + 1
+                            )));
+                        }
+                    }
+                }
+                positions.push([x, y]);
+            }
+            "vt" => {
+                let values: Vec<&str> = tokens.collect();
+                if values.is_empty() || values.len() > 3 {
+                    return Err(bad(format!(
+                        "a texture coordinate needs 1 to 3 numbers, got {}",
+                        values.len()
+                    )));
+                }
+                let u = number(values[0], "texture u")?;
+                let v = match values.get(1) {
+                    Some(t) => number(t, "texture v")?,
+                    None => 0.0,
+                };
+                texcoords.push([u as f32, v as f32]);
+            }
+            "f" => {
+                let mut corners: Vec<(u32, Option<u32>)> = Vec::new();
+                for (c, token) in tokens.enumerate() {
+                    let mut parts = token.split('/');
+                    let resolve = |part: Option<&str>, count: usize, what: &str| -> Result<Option<u32>> {
+                        let Some(p) = part.filter(|p| !p.is_empty()) else { return Ok(None) };
+                        let i: i64 = p.parse().map_err(|_| {
+                            bad(format!("corner {} ({token:?}): {what} index {p:?} is not an integer", c + 1))
+                        })?;
+                        let resolved = if i > 0 { i - 1 } else { count as i64 + i };
+                        if i == 0 || resolved < 0 || resolved >= count as i64 {
+                            return Err(bad(format!(
+                                "corner {} ({token:?}): {what} index {i} is out of range (there are {count} so far)",
+                                c + 1
+                            )));
+                        }
+                        Ok(Some(resolved as u32))
+                    };
+                    let v = resolve(parts.next(), positions.len(), "vertex")?
+                        .ok_or_else(|| bad(format!("corner {} ({token:?}) has no vertex index", c + 1)))?;
+                    let vt = resolve(parts.next(), texcoords.len(), "texture")?;
+                    corners.push((v, vt));
+                }
+                if corners.len() < 3 {
+                    return Err(bad(format!("a face needs at least 3 corners, got {}", corners.len())));
+                }
+                for k in 1..corners.len() - 1 {
+                    let tri = [corners[0], corners[k], corners[k + 1]];
+                    triangles.push(tri.map(|c| c.0));
+                    corner_vt.push(tri.map(|c| c.1));
+                    tri_line.push(line);
+                }
+            }
+            _ => {}
+        }
+    }
+    if triangles.is_empty() {
+        return Err(Error::BadObj { line: 0, reason: "the file has no face".into() });
+    }
+    // Drop unused vertices, keeping order.
+    let mut index = vec![u32::MAX; positions.len()];
+    let mut file_index = Vec::new();
+    for t in &triangles {
+        for &v in t {
+            index[v as usize] = 0;
+        }
+    }
+    let mut vertices = Vec::new();
+    for (v, slot) in index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = vertices.len() as u32;
+            vertices.push(positions[v]);
+            file_index.push(v + 1);
+        }
+    }
+    let triangles: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|v| index[v as usize])).collect();
+    // One texture coordinate per vertex, if the file gives exactly that.
+    let mut vt_of: Vec<Option<u32>> = vec![None; vertices.len()];
+    let mut consistent = true;
+    'corners: for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            match (corner_vt[t][k], vt_of[tri[k] as usize]) {
+                (None, _) => {
+                    consistent = false;
+                    break 'corners;
+                }
+                (Some(a), Some(b)) if texcoords[a as usize] != texcoords[b as usize] => {
+                    consistent = false;
+                    break 'corners;
+                }
+                (Some(a), _) => vt_of[tri[k] as usize] = Some(a),
+            }
+        }
+    }
+    let uvs = if consistent {
+        vt_of.iter().map(|vt| vt.map(|k| texcoords[k as usize]).unwrap_or([0.0; 2])).collect()
+    } else {
+        box_uvs(&vertices)
+    };
+    let mesh = Mesh::new(vertices, triangles).map_err(|e| {
+        let line = |t: usize| tri_line.get(t).copied().unwrap_or(0);
+        let vertex = |v: u32| file_index.get(v as usize).copied().unwrap_or(0);
+        match e {
+            Error::DegenerateTriangle { triangle, doubled_area } => Error::BadObj {
+                line: line(triangle),
+                reason: format!(
+                    "the face gives a degenerate triangle (twice its area is {doubled_area:e}): repeated, coinciding or collinear corners, or a non-convex polygon"
+                ),
+            },
+            Error::DuplicateTriangle { first, second } => Error::BadObj {
+                line: line(second),
+                reason: format!("the face repeats a triangle of the face on line {}", line(first)),
+            },
+            Error::NonManifoldEdge { i, j, triangles } => Error::BadObj {
+                line: 0,
+                reason: format!(
+                    "the edge between vertices {} and {} is shared by {triangles} triangles; at most 2 are allowed",
+                    vertex(i),
+                    vertex(j)
+                ),
+            },
+            Error::FoldedEdge { i, j } => Error::BadObj {
+                line: 0,
+                reason: format!(
+                    "the two triangles of the edge between vertices {} and {} lie on the same side of it: the mesh folds over itself",
+                    vertex(i),
+                    vertex(j)
+                ),
+            },
+            other => other,
+        }
+    })?;
+    ShapeMesh::new(mesh, uvs)
+}

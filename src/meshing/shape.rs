@@ -1,0 +1,219 @@
+//! [`ShapeMesh`]: a validated [`Mesh`] with texture coordinates and its boundary loops, the
+//! common result of every way of making a shape (outline, picture, OBJ, JSON), and its
+//! JSON round trip.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::meshing::outline::{mesh_outline, OutlineOptions};
+
+/// A mesh ready to register, with what a renderer needs around it.
+///
+/// * [`ShapeMesh::mesh`]: the validated triangle mesh (counter-clockwise triangles).
+/// * [`ShapeMesh::uvs`]: one texture coordinate `[u, v]` per vertex. From a picture,
+///   `u = x / width`, `v = y / height` (pixel coordinates, y down, as in the picture); from an
+///   outline, the position normalised by the mesh's bounding box (`u = (x − x_min) /
+///   (x_max − x_min)`, likewise `v` with y, so `v` grows with y); from OBJ, the `vt`
+///   coordinates when every vertex has exactly one, else as for an outline.
+/// * [`ShapeMesh::boundary`]: the boundary loops as vertex indices, each loop closed
+///   implicitly (the last vertex connects to the first), oriented like the triangles
+///   (counter-clockwise in the mesh's coordinates around the shape, clockwise around holes).
+#[derive(Debug, Clone)]
+pub struct ShapeMesh {
+    mesh: Mesh,
+    uvs: Vec<[f32; 2]>,
+    boundary: Vec<Vec<u32>>,
+}
+
+impl ShapeMesh {
+    /// Wraps a mesh and one texture coordinate per vertex, computing the boundary loops.
+    ///
+    /// Errors: [`Error::CountMismatch`] when `uvs` does not have one entry per vertex,
+    /// [`Error::NonFinite`] for a non-finite texture coordinate. O(t log t).
+    pub fn new(mesh: Mesh, uvs: Vec<[f32; 2]>) -> Result<ShapeMesh> {
+        if uvs.len() != mesh.vertices().len() {
+            return Err(Error::CountMismatch {
+                what: "uvs",
+                got: uvs.len(),
+                expected: mesh.vertices().len(),
+            });
+        }
+        for (index, uv) in uvs.iter().enumerate() {
+            if let Some(&v) = uv.iter().find(|v| !v.is_finite()) {
+                return Err(Error::NonFinite { what: "uvs", index, value: v as f64 });
+            }
+        }
+        let boundary = boundary_loops(&mesh);
+        Ok(ShapeMesh { mesh, uvs, boundary })
+    }
+
+    /// Wraps a mesh with texture coordinates normalised by its bounding box (see
+    /// [`ShapeMesh::uvs`]). O(t log t).
+    pub fn with_box_uvs(mesh: Mesh) -> ShapeMesh {
+        let uvs = box_uvs(mesh.vertices());
+        let boundary = boundary_loops(&mesh);
+        ShapeMesh { mesh, uvs, boundary }
+    }
+
+    /// The triangle mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// One texture coordinate `[u, v]` per vertex.
+    pub fn uvs(&self) -> &[[f32; 2]] {
+        &self.uvs
+    }
+
+    /// The boundary loops, as vertex indices (see the type's docs for their orientation).
+    pub fn boundary(&self) -> &[Vec<u32>] {
+        &self.boundary
+    }
+
+    /// The mesh alone, e.g. for [`Rest::register`](crate::Rest::register).
+    pub fn into_mesh(self) -> Mesh {
+        self.mesh
+    }
+
+    /// The shape as JSON text: `{"vertices": [[x, y], …], "triangles": [[a, b, c], …],
+    /// "uvs": [[u, v], …], "boundary": [[i, j, …], …]}`. Numbers are written so that
+    /// [`ShapeMesh::from_json`] reads back exactly the same values. O(n).
+    /// (Native only: in wasm, `Mesh.toJSON` builds the JavaScript object directly.)
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn to_json(&self) -> String {
+        // Serialising plain numbers and arrays cannot fail.
+        serde_json::to_string(&self.json_ref()).unwrap_or_default()
+    }
+
+    /// The shape in the form [`ShapeMesh::to_json`] writes, for any serde serialiser.
+    pub(crate) fn json_ref(&self) -> JsonRef<'_> {
+        JsonRef {
+            vertices: self.mesh.vertices(),
+            triangles: self.mesh.triangles(),
+            uvs: &self.uvs,
+            boundary: &self.boundary,
+        }
+    }
+
+    /// Validates deserialised JSON data (see [`ShapeMesh::from_json`]).
+    pub(crate) fn from_json_data(data: JsonOwned) -> Result<ShapeMesh> {
+        let mesh = Mesh::new(data.vertices, data.triangles)?;
+        match data.uvs {
+            Some(uvs) => ShapeMesh::new(mesh, uvs),
+            None => Ok(ShapeMesh::with_box_uvs(mesh)),
+        }
+    }
+
+    /// Reads what [`ShapeMesh::to_json`] writes and validates it like [`Mesh::new`].
+    /// `uvs` may be left out (they are then normalised by the bounding box); `boundary` may
+    /// be left out and is in any case recomputed from the triangles. Other keys are
+    /// rejected.
+    ///
+    /// Errors: [`Error::BadJson`] for text that is not such an object (with serde_json's
+    /// line and column), and whatever [`Mesh::new`] and [`ShapeMesh::new`] reject. (Native
+    /// only: in wasm, `Mesh.fromJSON` parses with the JavaScript engine.)
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn from_json(text: &str) -> Result<ShapeMesh> {
+        let data: JsonOwned =
+            serde_json::from_str(text).map_err(|e| Error::BadJson { reason: e.to_string() })?;
+        ShapeMesh::from_json_data(data)
+    }
+}
+
+/// The JSON form of a [`ShapeMesh`], borrowed.
+#[derive(Serialize)]
+pub(crate) struct JsonRef<'a> {
+    vertices: &'a [[f64; 2]],
+    triangles: &'a [[u32; 3]],
+    uvs: &'a [[f32; 2]],
+    boundary: &'a [Vec<u32>],
+}
+
+/// The JSON form of a [`ShapeMesh`], read.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct JsonOwned {
+    vertices: Vec<[f64; 2]>,
+    triangles: Vec<[u32; 3]>,
+    uvs: Option<Vec<[f32; 2]>>,
+    #[allow(dead_code)]
+    boundary: Option<Vec<Vec<u32>>>,
+}
+
+/// Texture coordinates normalised by the bounding box of `points` (0 along an axis on
+/// which the box is flat).
+pub(crate) fn box_uvs(points: &[[f64; 2]]) -> Vec<[f32; 2]> {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let size = [hi[0] - lo[0], hi[1] - lo[1]];
+    points
+        .iter()
+        .map(|p| {
+            let f = |k: usize| if size[k] > 0.0 { ((p[k] - lo[k]) / size[k]) as f32 } else { 0.0 };
+            [f(0), f(1)]
+        })
+        .collect()
+}
+
+/// The boundary loops of `mesh` as vertex indices: its boundary edges, each directed as
+/// in its (counter-clockwise) triangle, chained into closed loops. Each loop starts at the
+/// tail of the first edge, in `(from, to)` order, that no earlier loop used (so the first
+/// loop starts at the smallest boundary vertex). Where several loops meet at one vertex (a pinch), the loops are still closed
+/// walks over distinct edges. O(b log b) for b boundary edges.
+pub fn boundary_loops(mesh: &Mesh) -> Vec<Vec<u32>> {
+    let mut directed: Vec<(u32, u32)> =
+        mesh.boundary_edges().map(|e| if e.l.is_some() { (e.i, e.j) } else { (e.j, e.i) }).collect();
+    directed.sort_unstable();
+    let mut used = vec![false; directed.len()];
+    let mut loops = Vec::new();
+    for start in 0..directed.len() {
+        if used[start] {
+            continue;
+        }
+        used[start] = true;
+        let (first, mut to) = directed[start];
+        let mut walk = vec![first];
+        while to != first {
+            walk.push(to);
+            // The unused outgoing edges of `to`.
+            let lo = directed.partition_point(|&(f, _)| f < to);
+            let next = (lo..directed.len()).take_while(|&k| directed[k].0 == to).find(|&k| !used[k]);
+            match next {
+                Some(k) => {
+                    used[k] = true;
+                    to = directed[k].1;
+                }
+                // Cannot happen on a valid mesh (every boundary vertex has as many incoming
+                // as outgoing boundary edges); stop rather than loop.
+                None => break,
+            }
+        }
+        loops.push(walk);
+    }
+    loops
+}
+
+/// [`mesh_outline`] with texture coordinates normalised by the outline's bounding box and
+/// the boundary loops (see [`ShapeMesh`]). Same errors and cost as [`mesh_outline`].
+///
+/// ```
+/// use bunraku::meshing::{shape_from_outline, star, OutlineOptions};
+/// let shape = shape_from_outline(&star(5, 0.5, 1.0), &[], &OutlineOptions::new())?;
+/// assert_eq!(shape.uvs().len(), shape.mesh().vertices().len());
+/// assert_eq!(shape.boundary().len(), 1);
+/// # Ok::<(), bunraku::Error>(())
+/// ```
+pub fn shape_from_outline(
+    outer: &[[f64; 2]],
+    holes: &[Vec<[f64; 2]>],
+    options: &OutlineOptions,
+) -> Result<ShapeMesh> {
+    Ok(ShapeMesh::with_box_uvs(mesh_outline(outer, holes, options)?))
+}
