@@ -31,7 +31,8 @@ use std::collections::HashMap;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::meshing::outline::{
-    estimate_vertices, mesh_outline, OutlineOptions, DEFAULT_MIN_ANGLE_DEG, MAX_MIN_ANGLE_DEG,
+    estimate_vertices, inside, mesh_outline, segments_meet, OutlineOptions, DEFAULT_MIN_ANGLE_DEG,
+    MAX_MIN_ANGLE_DEG,
 };
 use crate::meshing::shape::ShapeMesh;
 
@@ -820,7 +821,7 @@ fn crossing_loops(loops: &[Vec<[f64; 2]>]) -> Vec<usize> {
             let hit = if adjacent {
                 folds_back(seg, other, n)
             } else {
-                segments_touch(seg.a, seg.b, other.a, other.b)
+                segments_meet(seg.a, seg.b, other.a, other.b)
             };
             if hit {
                 bad[seg.l] = true;
@@ -841,43 +842,6 @@ fn crossing_loops(loops: &[Vec<[f64; 2]>]) -> Vec<usize> {
         cross == 0.0 && dot < 0.0
     }
     (0..loops.len()).filter(|&l| bad[l]).collect()
-}
-
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-/// Whether the closed segments `ab` and `cd` share a point.
-fn segments_touch(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
-    let (o1, o2, o3, o4) = (orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b));
-    let on = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
-        r[0] >= p[0].min(q[0]) && r[0] <= p[0].max(q[0]) && r[1] >= p[1].min(q[1]) && r[1] <= p[1].max(q[1])
-    };
-    if ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
-        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
-    {
-        return true;
-    }
-    (o1 == 0.0 && on(a, b, c))
-        || (o2 == 0.0 && on(a, b, d))
-        || (o3 == 0.0 && on(c, d, a))
-        || (o4 == 0.0 && on(c, d, b))
-}
-
-/// Whether `p` lies inside the loop (even-odd rule).
-fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
-    let mut odd = false;
-    let n = poly.len();
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
 }
 
 /// Each outer loop (positive area) with the holes (negative area) whose smallest

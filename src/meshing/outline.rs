@@ -516,8 +516,9 @@ fn within(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
     p[0] >= a[0].min(b[0]) && p[0] <= a[0].max(b[0]) && p[1] >= a[1].min(b[1]) && p[1] <= a[1].max(b[1])
 }
 
-/// Whether the closed segments `ab` and `cd` share a point.
-fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+/// Whether the closed segments `ab` and `cd` share a point (near-collinear counts as
+/// touching: see `orient`).
+pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     let (d1, d2) = (orient(c, d, a), orient(c, d, b));
     let (d3, d4) = (orient(a, b, c), orient(a, b, d));
     if d1 * d2 < 0 && d3 * d4 < 0 {
@@ -611,7 +612,7 @@ fn pair_conflicts(rings: &[Ring], s: &Seg, t: &Seg) -> bool {
 }
 
 /// Crossing-number point-in-polygon test (for points not on the boundary). O(n).
-fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
+pub(crate) fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
     let mut odd = false;
     let n = poly.len();
     for k in 0..n {
