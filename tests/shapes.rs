@@ -1,5 +1,8 @@
 //! Tests of `ShapeMesh`: outlines with texture coordinates and boundary loops, the JSON
 //! round trip and the Wavefront OBJ reader.
+// Native only: the Rust JSON functions use serde_json, which the wasm build leaves out
+// (Mesh.toJSON / fromJSON in wasm are tested in tests/web_shapes.rs and tests/node/).
+#![cfg(not(target_arch = "wasm32"))]
 
 use bunraku::meshing::{boundary_loops, read_obj, shape_from_outline, star, OutlineOptions, ShapeMesh};
 use bunraku::{Error, Mesh, Options, Rest};
