@@ -28,7 +28,7 @@
 
 use crate::arap::{check_options, edge_stencils, Core, EdgeWeights};
 use crate::error::{Error, Result};
-use crate::mesh::{build_edges, check_duplicates, components, Edge};
+use crate::mesh::{build_edges, check_duplicates, components, triples_from_flat, Edge};
 use crate::quality::{quality_3d, Quality};
 
 /// Relative threshold below which a 3D triangle counts as degenerate (as for 2D meshes).
@@ -103,23 +103,8 @@ impl Surface {
 
     /// [`Surface::new`] from flat arrays `[x0, y0, z0, x1, …]` and `[a0, b0, c0, a1, …]`.
     pub fn from_flat(vertices: &[f64], triangles: &[u32]) -> Result<Surface> {
-        if vertices.len() % 3 != 0 {
-            return Err(Error::BadLength {
-                what: "vertices",
-                len: vertices.len(),
-                expected: "a multiple of 3".into(),
-            });
-        }
-        if triangles.len() % 3 != 0 {
-            return Err(Error::BadLength {
-                what: "triangles",
-                len: triangles.len(),
-                expected: "a multiple of 3".into(),
-            });
-        }
-        let v = vertices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let t = triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        Surface::new(v, t)
+        let v = triples_from_flat("vertices", vertices)?;
+        Surface::new(v, triples_from_flat("triangles", triangles)?)
     }
 
     /// The 3D positions, one per vertex.

@@ -105,15 +105,7 @@ impl Mesh {
     /// [`Mesh::new`] from flat arrays `[x0, y0, x1, y1, …]` and `[a0, b0, c0, a1, …]`.
     pub fn from_flat(vertices: &[f64], triangles: &[u32]) -> Result<Mesh> {
         let v = points_from_flat("vertices", vertices)?;
-        if triangles.len() % 3 != 0 {
-            return Err(Error::BadLength {
-                what: "triangles",
-                len: triangles.len(),
-                expected: "a multiple of 3".into(),
-            });
-        }
-        let t = triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        Mesh::new(v, t)
+        Mesh::new(v, triples_from_flat("triangles", triangles)?)
     }
 
     /// The rest positions, one per vertex.
@@ -163,6 +155,14 @@ impl Mesh {
         }
         p
     }
+}
+
+/// Reinterprets a flat slice as triples (triangles, 3D points), checking its length.
+pub(crate) fn triples_from_flat<T: Copy>(what: &'static str, flat: &[T]) -> Result<Vec<[T; 3]>> {
+    if flat.len() % 3 != 0 {
+        return Err(Error::BadLength { what, len: flat.len(), expected: "a multiple of 3".into() });
+    }
+    Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
 
 pub(crate) fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
