@@ -3,21 +3,11 @@
 //!
 //! `cargo bench --bench arap` (add `-- --quick` for fewer repetitions).
 
-use std::time::Instant;
-
 use bunraku::meshing::{mesh_outline, spacing_for_vertices, star, OutlineOptions};
 use bunraku::{EdgeWeights, Handle, Options, Rest};
 
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let k = ((sorted.len() - 1) as f64 * p).round() as usize;
-    sorted[k]
-}
-
-fn ms(f: impl FnOnce()) -> f64 {
-    let t = Instant::now();
-    f();
-    t.elapsed().as_secs_f64() * 1e3
-}
+mod common;
+use common::*;
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

@@ -5,24 +5,14 @@
 //!
 //! `cargo bench --bench flatten` (add `-- --quick` for fewer repetitions).
 
-use std::time::Instant;
-
 use bunraku::flatten::{flatten, FlattenOptions, Surface};
 use bunraku::EdgeWeights;
 
+mod common;
+use common::*;
+
 #[path = "../tests/common/surfaces.rs"]
 mod surfaces;
-
-fn ms(f: impl FnOnce()) -> f64 {
-    let t = Instant::now();
-    f();
-    t.elapsed().as_secs_f64() * 1e3
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

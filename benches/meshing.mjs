@@ -10,6 +10,7 @@
 import { readFileSync } from "node:fs";
 import { performance } from "node:perf_hooks";
 import { initSync, Mesh } from "../pkg/bunraku.js";
+import { spacingFor, star } from "./_star.mjs";
 
 initSync({ module: readFileSync(new URL("../pkg/bunraku_bg.wasm", import.meta.url)) });
 const quick = process.argv.includes("--quick");
@@ -71,16 +72,8 @@ for (const size of [512, 1024]) {
   const [n, t, cold, med, min] = time(() => Mesh.fromImage(rgba, size, size));
   console.log(`| picture ${size}² (default options) | ${n} | ${t} | ${cold.toFixed(1)} | ${med.toFixed(1)} | ${min.toFixed(1)} |`);
 }
-const star = new Float64Array(20);
-for (let k = 0; k < 10; k++) {
-  const r = k % 2 === 0 ? 1.0 : 0.5;
-  const a = Math.PI / 2 + (2 * Math.PI * k) / 10;
-  star[2 * k] = r * Math.cos(a);
-  star[2 * k + 1] = r * Math.sin(a);
-}
-const area = 5 * 0.5 * 1.0 * Math.sin(Math.PI / 5);
 for (const target of [3000, 30000]) {
-  const spacing = Math.sqrt((1.8 * area) / target);
+  const spacing = spacingFor(target);
   const [n, t, cold, med, min] = time(() => Mesh.fromOutline(star, undefined, { spacing }));
   console.log(`| outline star, ~${target / 1000}k vertices | ${n} | ${t} | ${cold.toFixed(1)} | ${med.toFixed(1)} | ${min.toFixed(1)} |`);
 }

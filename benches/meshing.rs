@@ -4,22 +4,12 @@
 //!
 //! `cargo bench --bench meshing` (add `-- --quick` for fewer repetitions).
 
-use std::time::Instant;
-
 use bunraku::meshing::{
     mesh_image, mesh_outline, spacing_for_vertices, star, test_character, ImageOptions, OutlineOptions,
 };
 
-fn ms(f: impl FnOnce()) -> f64 {
-    let t = Instant::now();
-    f();
-    t.elapsed().as_secs_f64() * 1e3
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+mod common;
+use common::*;
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

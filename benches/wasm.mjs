@@ -11,22 +11,13 @@ import { gzipSync } from "node:zlib";
 import { performance } from "node:perf_hooks";
 import os from "node:os";
 import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
+import { spacingFor, star } from "./_star.mjs";
 
 const wasmPath = new URL("../pkg/bunraku_bg.wasm", import.meta.url);
 const bytes = readFileSync(wasmPath);
 initSync({ module: bytes });
 const quick = process.argv.includes("--quick");
 
-// star(5, 0.5, 1.0) as in src/meshing/outline.rs: tips on radius 1, first tip on +y.
-const star = new Float64Array(20);
-for (let k = 0; k < 10; k++) {
-  const r = k % 2 === 0 ? 1.0 : 0.5;
-  const a = Math.PI / 2 + (2 * Math.PI * k) / 10;
-  star[2 * k] = r * Math.cos(a);
-  star[2 * k + 1] = r * Math.sin(a);
-}
-const area = 5 * 0.5 * 1.0 * Math.sin(Math.PI / 5);
-const spacingFor = (n) => Math.sqrt((1.8 * area) / n); // meshing::spacing_for_vertices
 
 const ms = (f) => {
   const t = performance.now();
