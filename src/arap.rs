@@ -35,7 +35,7 @@ use std::sync::Arc;
 use num_complex::Complex64 as C64;
 
 use crate::error::{check_finite, Error, Result};
-use crate::locate::{barycentric, Location, Locator, BOUNDARY_TOLERANCE};
+use crate::locate::{Location, Locator, BOUNDARY_TOLERANCE};
 use crate::mesh::{cross, dot, sub, Edge, Mesh};
 use crate::solver::{Factor, Pair, Pattern, Quad, Symbolic, Workspace};
 
@@ -581,11 +581,9 @@ fn resolve_handle(rest: &RestData, k: usize, handle: &Handle) -> Result<Location
     let bad = |reason: String| Error::BadHandle { handle: k, reason };
     match *handle {
         Handle::Point(p) => {
-            check_finite("handles", &[p]).map_err(|_| Error::NonFinite {
-                what: "handles",
-                index: k,
-                value: if p[0].is_finite() { p[1] } else { p[0] },
-            })?;
+            if let Some(&value) = p.iter().find(|x| !x.is_finite()) {
+                return Err(Error::NonFinite { what: "handles", index: k, value });
+            }
             rest.locator.locate(mesh, p).ok_or(Error::HandleOutside { handle: k, point: p })
         }
         Handle::Vertex(v) => {
@@ -796,9 +794,4 @@ impl Pinned {
             };
         }
     }
-}
-
-/// Barycentric coordinates of `p` in triangle `t` of `mesh` (exact on vertices).
-pub fn barycentric_in(mesh: &Mesh, t: usize, p: [f64; 2]) -> [f64; 3] {
-    barycentric(mesh.triangles()[t].map(|v| mesh.vertices()[v as usize]), p)
 }
