@@ -2,15 +2,16 @@
 // play a scripted drag (the left hand waves, the head nods) and report what happened and
 // how long each phase took.
 //
-//   npm start            (builds the wasm package first if needed)
-//   node examples/node/drag.mjs [frames]
+//   cd examples/node && npm install     (links the repository's package: build it first
+//                                         with `npm run build` at the top)
+//   node drag.mjs [frames]
 
 import { readFileSync } from "node:fs";
 import { performance } from "node:perf_hooks";
-import { initSync, Mesh, Puppet } from "../../pkg/bunraku.js";
+import { initSync, Mesh, Puppet } from "bunraku";
 
 const root = new URL("../../", import.meta.url);
-initSync({ module: readFileSync(new URL("pkg/bunraku_bg.wasm", root)) });
+initSync({ module: readFileSync(new URL(import.meta.resolve("bunraku/bunraku_bg.wasm"))) });
 
 const shape = JSON.parse(readFileSync(new URL("assets/gingerbread.json", root), "utf8"));
 const frames = Number(process.argv[2] ?? 240);

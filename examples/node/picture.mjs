@@ -1,13 +1,13 @@
 // Draws the README's picture: the gingerbread outline meshed, at rest and posed by four
 // pins, as an SVG (docs/gingerbread.svg).
 //
-//   node examples/node/picture.mjs
+//   cd examples/node && npm install && node picture.mjs
 
 import { readFileSync, writeFileSync } from "node:fs";
-import { initSync, Mesh, Puppet } from "../../pkg/bunraku.js";
+import { initSync, Mesh, Puppet } from "bunraku";
 
 const root = new URL("../../", import.meta.url);
-initSync({ module: readFileSync(new URL("pkg/bunraku_bg.wasm", root)) });
+initSync({ module: readFileSync(new URL(import.meta.resolve("bunraku/bunraku_bg.wasm"))) });
 const shape = JSON.parse(readFileSync(new URL("assets/gingerbread.json", root), "utf8"));
 
 const mesh = Mesh.fromOutline(new Float64Array(shape.outline), undefined, { spacing: 14 });

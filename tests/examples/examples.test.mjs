@@ -1,0 +1,124 @@
+// The npm package as a user meets it: `npm pack` of the repository (pkg/ already built),
+// installed from the tarball into fresh copies of examples/vite and examples/node. The Vite
+// app is type-checked, built and opened in headless Chromium; the Node examples run.
+// Needs the npm registry (vite, typescript, pngjs) and /usr/bin/chromium.
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { execFileSync, spawn } from "node:child_process";
+import { cpSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
+import { createServer } from "node:net";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+import { PNG } from "pngjs";
+
+const root = fileURLToPath(new URL("../../", import.meta.url));
+let work;
+let tarball;
+
+const run = (cmd, args, cwd) => execFileSync(cmd, args, { cwd, encoding: "utf8", stdio: ["ignore", "pipe", "pipe"] });
+
+/** Copies `examples/<name>` into the work folder with `bunraku` taken from the tarball. */
+function install(name, extra = []) {
+  const dir = join(work, "examples", name);
+  cpSync(join(root, "examples", name), dir, {
+    recursive: true,
+    filter: (src) => !/node_modules|[\\/]dist$/.test(src),
+  });
+  const manifest = JSON.parse(readFileSync(join(dir, "package.json"), "utf8"));
+  manifest.dependencies.bunraku = `file:${tarball}`;
+  writeFileSync(join(dir, "package.json"), JSON.stringify(manifest, null, 2));
+  rmSync(join(dir, "package-lock.json"), { force: true });
+  for (const [from, to] of extra) cpSync(join(root, from), join(work, to), { recursive: true });
+  run("npm", ["install", "--no-audit", "--no-fund", "--loglevel=error"], dir);
+  return dir;
+}
+
+const freePort = () =>
+  new Promise((resolve, reject) => {
+    const s = createServer();
+    s.once("error", reject);
+    s.listen(0, "127.0.0.1", () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+  });
+
+before(() => {
+  work = mkdtempSync(join(tmpdir(), "bunraku-examples-"));
+  const [packed] = JSON.parse(run("npm", ["pack", "--ignore-scripts", "--json", "--pack-destination", work], root));
+  tarball = join(work, packed.filename);
+  const files = packed.files.map((f) => f.path).sort();
+  assert.deepEqual(files, [
+    "LICENSE",
+    "README.md",
+    "package.json",
+    "pkg/bunraku.d.ts",
+    "pkg/bunraku.js",
+    "pkg/bunraku_bg.wasm",
+    "pkg/bunraku_bg.wasm.d.ts",
+  ]);
+  console.log(`# packed ${packed.filename}: ${packed.size} bytes, unpacked ${packed.unpackedSize} bytes`);
+});
+
+after(() => rmSync(work, { recursive: true, force: true }));
+
+test("examples/node runs against the installed package", () => {
+  const dir = install("node", [["assets", "assets"]]);
+  const out = run("node", ["drag.mjs", "30"], dir);
+  assert.match(out, /compile: 4 pins/);
+  assert.match(out, /pins back at rest: shape restored to/);
+});
+
+test("examples/vite type-checks, builds and runs in Chromium", async () => {
+  const dir = install("vite");
+  run("npm", ["run", "build"], dir);
+  assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
+  const port = await freePort();
+  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
+  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
+    cwd: dir,
+    stdio: ["ignore", "pipe", "inherit"],
+  });
+  await new Promise((resolve, reject) => {
+    server.stdout.on("data", (d) => /Local:/.test(String(d)) && resolve());
+    server.once("exit", (code) => reject(new Error(`vite preview exited with ${code}`)));
+  });
+  const browser = await chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
+  });
+  try {
+    const page = await browser.newPage();
+    const problems = [];
+    page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+    page.on("pageerror", (e) => problems.push(String(e)));
+    await page.goto(`http://127.0.0.1:${port}/`);
+    const status = page.locator("#status");
+    await status.filter({ hasText: /^ok: \d+ vertices, 3 pins, frame 1$/ }).waitFor({ timeout: 10_000 });
+    // Drag the first pin (the star's top tip) 60 px to the right: the page updates.
+    const box = await page.locator("#stage").boundingBox();
+    const [x, y] = [240, 250 - 0.9 * 200]; // src/main.ts: the pin at the top tip
+    await page.mouse.move(box.x + x, box.y + y);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(box.x + x + 6 * k, box.y + y);
+      await page.waitForTimeout(20);
+    }
+    await page.mouse.up();
+    await status.filter({ hasNotText: /frame 1$/ }).waitFor({ timeout: 5_000 });
+    // The dragged tip's colour now lies 60 px right of where it was.
+    const shot = PNG.sync.read(await page.locator("#stage").screenshot());
+    const yellow = (px, py) => {
+      const i = 4 * (Math.round(py) * shot.width + Math.round(px));
+      return shot.data[i] > 200 && shot.data[i + 1] > 150 && shot.data[i + 2] < 140;
+    };
+    assert.ok(yellow(x + 60, y + 20), "the tip follows the pin");
+    assert.ok(!yellow(x - 8, y + 20), "the tip left its rest place");
+    assert.deepEqual(problems, []);
+  } finally {
+    await browser.close();
+    server.kill();
+  }
+});
