@@ -623,6 +623,20 @@ pub fn flatten_surface(
     Ok(o.into())
 }
 
+/// Reads a Wavefront OBJ text holding a 3D surface, for `flatten`: `{ vertices:
+/// Float64Array` (`[x0, y0, z0, …]`, the vertices some face uses, in file order)`,
+/// triangles: Uint32Array }` (faces fanned from their first corner). Texture coordinates
+/// and normals are ignored. Throws an `Error` naming the line or the file's vertices, or
+/// saying why the surface is not a topological disc.
+#[wasm_bindgen(js_name = surfaceFromOBJ, unchecked_return_type = "{ vertices: Float64Array, triangles: Uint32Array }")]
+pub fn surface_from_obj(text: &str) -> Result<JsValue, JsError> {
+    let surface = crate::meshing::read_obj_surface(text).map_err(js_error)?;
+    let o = js_sys::Object::new();
+    set(&o, "vertices", &Float64Array::from(surface.vertices().as_flattened()));
+    set(&o, "triangles", &Uint32Array::from(surface.triangles().as_flattened()));
+    Ok(o.into())
+}
+
 #[wasm_bindgen(typescript_custom_section)]
 const QUALITY_TS: &str = r#"
 /** Order statistics of one distortion measure (percentiles by nearest rank). */

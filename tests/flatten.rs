@@ -6,6 +6,7 @@
 mod surfaces;
 
 use bunraku::flatten::{default_pins, flatten, FlattenOptions, Pin, Surface};
+use bunraku::meshing::read_obj_surface;
 use bunraku::{EdgeWeights, Error};
 use surfaces::*;
 
@@ -342,4 +343,63 @@ fn bad_pins_and_options_return_their_errors() {
     assert!(matches!(with(vec![pin(0, 0.0), pin(3, 1e300)]), Err(Error::TooLarge { index: 1, .. })));
     let heavy = FlattenOptions { handle_weight: 0.0, ..FlattenOptions::default() };
     assert!(matches!(flatten(&s, &heavy), Err(Error::BadOption { name: "handleWeight", .. })));
+}
+
+/// The surface as OBJ text: `v x y z` lines, then `f` lines with 1-based indices in one of
+/// the corner forms the reader takes.
+fn to_obj(raw: &Raw3) -> String {
+    let mut text = String::from("# a test surface\no patch\n");
+    for p in &raw.0 {
+        text += &format!("v {} {} {}\nvn 0 0 1\n", p[0], p[1], p[2]);
+    }
+    for (k, t) in raw.1.iter().enumerate() {
+        text += &match k % 3 {
+            0 => format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1),
+            1 => format!("f {}//1 {}//1 {}//1\n", t[0] + 1, t[1] + 1, t[2] + 1),
+            _ => format!("f {} {} {} \n", t[0] + 1, t[1] + 1, t[2] + 1),
+        };
+    }
+    text
+}
+
+#[test]
+fn obj_surfaces_flatten_like_the_same_arrays() {
+    let raw = cylinder_patch(10, 0.8, 2.0);
+    let from_obj = read_obj_surface(&to_obj(&raw)).unwrap();
+    assert_eq!(from_obj.triangles(), &raw.1[..]);
+    for (a, b) in from_obj.vertices().iter().zip(&raw.0) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() <= 1e-15 * b[k].abs().max(1.0), "{a:?} vs {b:?}");
+        }
+    }
+    let f = flatten(&from_obj, &FlattenOptions::default()).unwrap();
+    assert!(f.quality.isometric.max <= 1e-8, "isometric error {:e}", f.quality.isometric.max);
+    assert_eq!(f.quality.flipped, 0);
+
+    // Quads fan into triangles; vertices no face uses are dropped; a missing z is 0.
+    let s = read_obj_surface("v 0 0\nv 9 9 9\nv 1 0 0\nv 1 1 1\nv 0 1 1\nf 1 3 4 5\n").unwrap();
+    assert_eq!(s.vertices().len(), 4);
+    assert_eq!(s.triangles(), &[[0, 1, 2], [0, 2, 3]]);
+    let f = flatten(&s, &FlattenOptions::default()).unwrap();
+    assert!(f.quality.isometric.max <= 1e-8);
+}
+
+#[test]
+fn obj_surface_errors_name_the_file_s_lines_and_vertices() {
+    let message = |text: &str| read_obj_surface(text).unwrap_err().to_string();
+    // A closed surface (the tetrahedron) is not a disc.
+    let closed = to_obj(&tetrahedron());
+    assert!(matches!(read_obj_surface(&closed), Err(Error::NotADisc { .. })), "{}", message(&closed));
+    // Two faces running along their shared edge the same way, named by file vertices.
+    let m = message("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nf 1 2 3\nf 2 3 4\n");
+    assert!(m.contains("vertices 2 and 3") && m.contains("not consistently oriented"), "{m}");
+    // Degenerate and repeated faces name their lines.
+    let m = message("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    assert!(m.starts_with("OBJ line 4") && m.contains("degenerate"), "{m}");
+    let m = message("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 2 3 1\n");
+    assert!(m.starts_with("OBJ line 5") && m.contains("repeats"), "{m}");
+    // Syntax errors as for planar meshes.
+    assert!(message("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").starts_with("OBJ line 1"));
+    assert!(message("v 0 0 0\nv 1 0 0\nf 1 2 3\n").starts_with("OBJ line 3"));
+    assert!(message("v 0 0 0\n").contains("no face"));
 }

@@ -6,7 +6,7 @@
 //!   boundary loops.
 //! * [`mesh_image`] traces the opaque part of an RGBA picture (alpha threshold, margin,
 //!   marching squares, simplification) and meshes it the same way.
-//! * [`read_obj`] reads a Wavefront OBJ mesh; [`ShapeMesh::to_json`] and
+//! * [`read_obj`] reads a Wavefront OBJ mesh ([`read_obj_surface`] a 3D one, for flattening); [`ShapeMesh::to_json`] and
 //!   [`ShapeMesh::from_json`] round-trip any of them through JSON.
 //!
 //! [`star`] and [`test_character`] make test shapes.
@@ -17,6 +17,6 @@ pub mod outline;
 pub mod shape;
 
 pub use image::{mesh_image, test_character, ImageOptions};
-pub use obj::read_obj;
+pub use obj::{read_obj, read_obj_surface};
 pub use outline::{estimate_vertices, mesh_outline, spacing_for_vertices, star, OutlineOptions};
 pub use shape::{boundary_loops, shape_from_outline, ShapeMesh};

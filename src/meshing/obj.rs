@@ -1,4 +1,5 @@
-//! A reader for Wavefront OBJ meshes, for users who bring their own mesh.
+//! A reader for Wavefront OBJ meshes, for users who bring their own mesh: planar ones for
+//! deformation ([`read_obj`]) and 3D surfaces for flattening ([`read_obj_surface`]).
 //!
 //! ```
 //! use bunraku::meshing::read_obj;
@@ -8,6 +9,7 @@
 //! ```
 
 use crate::error::{Error, Result};
+use crate::flatten::Surface;
 use crate::mesh::Mesh;
 use crate::meshing::shape::{box_uvs, ShapeMesh};
 
@@ -34,8 +36,158 @@ use crate::meshing::shape::{box_uvs, ShapeMesh};
 /// (1-based, as in the file) of an edge shared by more than two triangles or folded over.
 /// O(size of the text + t log t).
 pub fn read_obj(text: &str) -> Result<ShapeMesh> {
-    let mut positions: Vec<[f64; 2]> = Vec::new();
-    let mut plane: Option<(f64, usize)> = None;
+    let obj = parse(text)?;
+    let z0 = obj.positions.first().map_or(0.0, |p| p[2]);
+    for (v, p) in obj.positions.iter().enumerate() {
+        let z = p[2];
+        if (z - z0).abs() > 1e-9 * z0.abs().max(z.abs()).max(1.0) {
+            return Err(Error::BadObj {
+                line: obj.position_line[v],
+                reason: format!(
+                    "vertex {} has z = {z}, but the vertex on line {} has z = {z0}: bunraku meshes are planar (a 3D surface needs flattening first)",
+                    v + 1,
+                    obj.position_line[0]
+                ),
+            });
+        }
+    }
+    let (triangles, file_index) = obj.used_vertices();
+    let vertices: Vec<[f64; 2]> =
+        file_index.iter().map(|&v| [obj.positions[v][0], obj.positions[v][1]]).collect();
+    // One texture coordinate per vertex, if the file gives exactly that.
+    let mut vt_of: Vec<Option<u32>> = vec![None; vertices.len()];
+    let mut consistent = true;
+    'corners: for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            match (obj.corner_vt[t][k], vt_of[tri[k] as usize]) {
+                (None, _) => {
+                    consistent = false;
+                    break 'corners;
+                }
+                (Some(a), Some(b)) if obj.texcoords[a as usize] != obj.texcoords[b as usize] => {
+                    consistent = false;
+                    break 'corners;
+                }
+                (Some(a), _) => vt_of[tri[k] as usize] = Some(a),
+            }
+        }
+    }
+    let uvs = if consistent {
+        vt_of.iter().map(|vt| vt.map(|k| obj.texcoords[k as usize]).unwrap_or([0.0; 2])).collect()
+    } else {
+        box_uvs(&vertices)
+    };
+    let mesh = Mesh::new(vertices, triangles).map_err(|e| obj.name_in_file(e, &file_index))?;
+    ShapeMesh::new(mesh, uvs)
+}
+
+/// Reads a Wavefront OBJ text holding a 3D surface into a [`Surface`] for
+/// [`flatten`](crate::flatten::flatten).
+///
+/// The statements are read as by [`read_obj`] (`v x y [z [w]]` with a missing z counting
+/// as 0, `f` faces fanned from their first corner, everything else ignored), without the
+/// planarity rule: any z is welcome, and a planar mesh comes back as a flat surface.
+/// Vertices no face uses are dropped (the others keep their order). Texture coordinates and
+/// normals are ignored: the flattening makes its own 2D coordinates.
+///
+/// Errors: [`Error::BadObj`] naming the 1-based line, or the vertices (1-based, as in the
+/// file) of an edge shared by more than two triangles or whose two triangles are oriented
+/// inconsistently; [`Error::NotADisc`] when the surface is closed or not a topological
+/// disc (see [`Surface::new`]). O(size of the text + t log t).
+pub fn read_obj_surface(text: &str) -> Result<Surface> {
+    let obj = parse(text)?;
+    let (triangles, file_index) = obj.used_vertices();
+    let vertices = file_index.iter().map(|&v| obj.positions[v]).collect();
+    Surface::new(vertices, triangles).map_err(|e| obj.name_in_file(e, &file_index))
+}
+
+/// The statements of an OBJ text, before any check of the geometry.
+struct Parsed {
+    /// Every `v`, with z (0 when missing).
+    positions: Vec<[f64; 3]>,
+    /// The 1-based line of each `v`.
+    position_line: Vec<usize>,
+    /// Every `vt`.
+    texcoords: Vec<[f32; 2]>,
+    /// The faces fanned into triangles, indexing `positions`.
+    triangles: Vec<[u32; 3]>,
+    /// The `vt` of each triangle corner, when given.
+    corner_vt: Vec<[Option<u32>; 3]>,
+    /// The 1-based line of the face each triangle comes from.
+    tri_line: Vec<usize>,
+}
+
+impl Parsed {
+    /// The triangles renumbered over the vertices some face uses (keeping their order),
+    /// and for each such vertex its index in `positions`.
+    fn used_vertices(&self) -> (Vec<[u32; 3]>, Vec<usize>) {
+        let mut index = vec![u32::MAX; self.positions.len()];
+        for t in &self.triangles {
+            for &v in t {
+                index[v as usize] = 0;
+            }
+        }
+        let mut file_index = Vec::new();
+        for (v, slot) in index.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = file_index.len() as u32;
+                file_index.push(v);
+            }
+        }
+        let triangles = self.triangles.iter().map(|t| t.map(|v| index[v as usize])).collect();
+        (triangles, file_index)
+    }
+
+    /// Rewrites a mesh or surface validation error in the file's terms: the line of the
+    /// face, or the 1-based vertex numbers of the file. `file_index` is from
+    /// [`Parsed::used_vertices`].
+    fn name_in_file(&self, e: Error, file_index: &[usize]) -> Error {
+        let line = |t: usize| self.tri_line.get(t).copied().unwrap_or(0);
+        let vertex = |v: u32| file_index.get(v as usize).map_or(0, |&i| i + 1);
+        match e {
+            Error::DegenerateTriangle { triangle, doubled_area } => Error::BadObj {
+                line: line(triangle),
+                reason: format!(
+                    "the face gives a degenerate triangle (twice its area is {doubled_area:e}): repeated, coinciding or collinear corners, or a non-convex polygon"
+                ),
+            },
+            Error::DuplicateTriangle { first, second } => Error::BadObj {
+                line: line(second),
+                reason: format!("the face repeats a triangle of the face on line {}", line(first)),
+            },
+            Error::NonManifoldEdge { i, j, triangles } => Error::BadObj {
+                line: 0,
+                reason: format!(
+                    "the edge between vertices {} and {} is shared by {triangles} triangles; at most 2 are allowed",
+                    vertex(i),
+                    vertex(j)
+                ),
+            },
+            Error::FoldedEdge { i, j } => Error::BadObj {
+                line: 0,
+                reason: format!(
+                    "the two triangles of the edge between vertices {} and {} lie on the same side of it: the mesh folds over itself",
+                    vertex(i),
+                    vertex(j)
+                ),
+            },
+            Error::InconsistentOrientation { i, j } => Error::BadObj {
+                line: 0,
+                reason: format!(
+                    "the two faces of the edge between vertices {} and {} run along it the same way: the faces are not consistently oriented",
+                    vertex(i),
+                    vertex(j)
+                ),
+            },
+            other => other,
+        }
+    }
+}
+
+/// Reads the statements `read_obj` documents, checking numbers and indices.
+fn parse(text: &str) -> Result<Parsed> {
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut position_line: Vec<usize> = Vec::new();
     let mut texcoords: Vec<[f32; 2]> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut corner_vt: Vec<[Option<u32>; 3]> = Vec::new();
@@ -68,18 +220,8 @@ pub fn read_obj(text: &str) -> Result<ShapeMesh> {
                     Some(t) => number(t, "vertex z")?,
                     None => 0.0,
                 };
-                match plane {
-                    None => plane = Some((z, line)),
-                    Some((z0, first)) => {
-                        if (z - z0).abs() > 1e-9 * z0.abs().max(z.abs()).max(1.0) {
-                            return Err(bad(format!(
-                                "vertex {} has z = {z}, but the vertex on line {first} has z = {z0}: bunraku meshes are planar (a 3D surface needs flattening first)",
-                                positions.len() + 1
-                            )));
-                        }
-                    }
-                }
-                positions.push([x, y]);
+                positions.push([x, y, z]);
+                position_line.push(line);
             }
             "vt" => {
                 let values: Vec<&str> = tokens.collect();
@@ -135,78 +277,5 @@ pub fn read_obj(text: &str) -> Result<ShapeMesh> {
     if triangles.is_empty() {
         return Err(Error::BadObj { line: 0, reason: "the file has no face".into() });
     }
-    // Drop unused vertices, keeping order.
-    let mut index = vec![u32::MAX; positions.len()];
-    let mut file_index = Vec::new();
-    for t in &triangles {
-        for &v in t {
-            index[v as usize] = 0;
-        }
-    }
-    let mut vertices = Vec::new();
-    for (v, slot) in index.iter_mut().enumerate() {
-        if *slot == 0 {
-            *slot = vertices.len() as u32;
-            vertices.push(positions[v]);
-            file_index.push(v + 1);
-        }
-    }
-    let triangles: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|v| index[v as usize])).collect();
-    // One texture coordinate per vertex, if the file gives exactly that.
-    let mut vt_of: Vec<Option<u32>> = vec![None; vertices.len()];
-    let mut consistent = true;
-    'corners: for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            match (corner_vt[t][k], vt_of[tri[k] as usize]) {
-                (None, _) => {
-                    consistent = false;
-                    break 'corners;
-                }
-                (Some(a), Some(b)) if texcoords[a as usize] != texcoords[b as usize] => {
-                    consistent = false;
-                    break 'corners;
-                }
-                (Some(a), _) => vt_of[tri[k] as usize] = Some(a),
-            }
-        }
-    }
-    let uvs = if consistent {
-        vt_of.iter().map(|vt| vt.map(|k| texcoords[k as usize]).unwrap_or([0.0; 2])).collect()
-    } else {
-        box_uvs(&vertices)
-    };
-    let mesh = Mesh::new(vertices, triangles).map_err(|e| {
-        let line = |t: usize| tri_line.get(t).copied().unwrap_or(0);
-        let vertex = |v: u32| file_index.get(v as usize).copied().unwrap_or(0);
-        match e {
-            Error::DegenerateTriangle { triangle, doubled_area } => Error::BadObj {
-                line: line(triangle),
-                reason: format!(
-                    "the face gives a degenerate triangle (twice its area is {doubled_area:e}): repeated, coinciding or collinear corners, or a non-convex polygon"
-                ),
-            },
-            Error::DuplicateTriangle { first, second } => Error::BadObj {
-                line: line(second),
-                reason: format!("the face repeats a triangle of the face on line {}", line(first)),
-            },
-            Error::NonManifoldEdge { i, j, triangles } => Error::BadObj {
-                line: 0,
-                reason: format!(
-                    "the edge between vertices {} and {} is shared by {triangles} triangles; at most 2 are allowed",
-                    vertex(i),
-                    vertex(j)
-                ),
-            },
-            Error::FoldedEdge { i, j } => Error::BadObj {
-                line: 0,
-                reason: format!(
-                    "the two triangles of the edge between vertices {} and {} lie on the same side of it: the mesh folds over itself",
-                    vertex(i),
-                    vertex(j)
-                ),
-            },
-            other => other,
-        }
-    })?;
-    ShapeMesh::new(mesh, uvs)
+    Ok(Parsed { positions, position_line, texcoords, triangles, corner_vt, tri_line })
 }

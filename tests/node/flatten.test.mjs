@@ -2,7 +2,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, flatten, Puppet } from "../../pkg/bunraku.js";
+import { initSync, flatten, surfaceFromOBJ, Puppet } from "../../pkg/bunraku.js";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
@@ -35,6 +35,22 @@ test("flatten: a cylinder patch unrolls isometrically, with its quality", () => 
   // the chords apart, not the 3D chord 2 sin 1 between them.
   const d = Math.hypot(positions[16] - positions[0], positions[17] - positions[1]);
   assert.ok(Math.abs(d - 16 * Math.sin(0.125)) < 1e-8, `${d}`);
+});
+
+test("surfaceFromOBJ reads a 3D OBJ for flatten, naming bad lines", () => {
+  const [v, t] = cylinder(6, 1.5);
+  let text = "# a cylinder patch\nvt 0 0\n";
+  for (let k = 0; k < v.length; k += 3) text += `v ${v[k]} ${v[k + 1]} ${v[k + 2]}\n`;
+  for (let k = 0; k < t.length; k += 3) text += `f ${t[k] + 1}/1 ${t[k + 1] + 1}/1 ${t[k + 2] + 1}/1\n`;
+  const surface = surfaceFromOBJ(text);
+  assert.ok(surface.vertices instanceof Float64Array && surface.triangles instanceof Uint32Array);
+  assert.deepEqual(Array.from(surface.triangles), Array.from(t));
+  assert.deepEqual(Array.from(surface.vertices), Array.from(v));
+  const { quality } = flatten(surface.vertices, surface.triangles);
+  assert.ok(quality.isometric.max < 1e-8, `${quality.isometric.max}`);
+  assert.throws(() => surfaceFromOBJ("v 0 0 0\nv 1 0 0\nf 1 2 3\n"), /OBJ line 3/);
+  const closed = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  assert.throws(() => surfaceFromOBJ(closed), /not a topological disc/);
 });
 
 test("flatten: options and errors", () => {
