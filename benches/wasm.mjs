@@ -77,3 +77,6 @@ await import("./meshing.mjs");
 
 // Surface flattening (issue 5): 1.5k, 15k and 50k vertices; see benches/flatten.mjs.
 await import("./flatten.mjs");
+
+// Headless rendering (issue 4): a 5k-vertex posed picture into 800 × 600; see benches/render.mjs.
+await import("./render.mjs");

@@ -147,6 +147,15 @@ pub enum Error {
         /// The height given, in pixels.
         height: u32,
     },
+    /// A frame size for [`crate::render::Renderer`] that is zero or beyond
+    /// [`crate::meshing::image::MAX_SIDE`] pixels per side or
+    /// [`crate::meshing::image::MAX_PIXELS`] pixels in all.
+    RenderSize {
+        /// The width asked for, in pixels.
+        width: u32,
+        /// The height asked for, in pixels.
+        height: u32,
+    },
     /// A picture with nothing to mesh: no pixel reaches the alpha threshold, or every
     /// opaque region is a speck smaller than the minimum area.
     NoOpaquePixel {
@@ -245,6 +254,12 @@ impl fmt::Display for Error {
             Error::ImageSize { width, height } => write!(
                 f,
                 "picture: size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
+                crate::meshing::image::MAX_SIDE,
+                crate::meshing::image::MAX_PIXELS
+            ),
+            Error::RenderSize { width, height } => write!(
+                f,
+                "render: output size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
                 crate::meshing::image::MAX_SIDE,
                 crate::meshing::image::MAX_PIXELS
             ),

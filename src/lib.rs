@@ -21,8 +21,9 @@
 //! # Ok::<(), bunraku::Error>(())
 //! ```
 //!
-//! The core is plain Rust; the module `wasm` (compiled only for `wasm32`) is the JavaScript
-//! binding.
+//! [`render`] draws a deformed mesh with its texture into RGBA pixels, headless (golden-image
+//! tests, PNG frames, a Canvas 2D fallback). The core is plain Rust; the module `wasm`
+//! (compiled only for `wasm32`) is the JavaScript binding.
 
 #![warn(missing_docs)]
 
@@ -33,6 +34,7 @@ pub mod locate;
 pub mod mesh;
 pub mod meshing;
 pub mod quality;
+pub mod render;
 mod solver;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
@@ -43,3 +45,4 @@ pub use flatten::{flatten, FlattenOptions, Flattening, Pin, Surface};
 pub use locate::Location;
 pub use mesh::{Edge, Mesh};
 pub use quality::{Quality, Summary, TriangleQuality};
+pub use render::{RenderOptions, Renderer};

@@ -311,6 +311,17 @@ fn parse_image_options(options: JsValue) -> Result<ImageOptions, JsError> {
     Ok(o)
 }
 
+/// Copies the bytes of a `Uint8Array` or `Uint8ClampedArray` (RGBA pixels) out of JS.
+fn rgba_bytes(rgba: &JsValue) -> Result<Vec<u8>, JsError> {
+    if let Some(a) = rgba.dyn_ref::<js_sys::Uint8Array>() {
+        Ok(a.to_vec())
+    } else if let Some(a) = rgba.dyn_ref::<js_sys::Uint8ClampedArray>() {
+        Ok(a.to_vec())
+    } else {
+        Err(JsError::new("rgba: expected a Uint8Array or a Uint8ClampedArray"))
+    }
+}
+
 /// A validated triangle mesh made from an outline, a picture, an OBJ file or JSON, with
 /// texture coordinates and boundary loops; its `vertices` and `triangles` feed
 /// `Puppet.register`.
@@ -389,13 +400,7 @@ impl JsMesh {
         )]
         options: JsValue,
     ) -> Result<JsMesh, JsError> {
-        let bytes = if let Some(a) = rgba.dyn_ref::<js_sys::Uint8Array>() {
-            a.to_vec()
-        } else if let Some(a) = rgba.dyn_ref::<js_sys::Uint8ClampedArray>() {
-            a.to_vec()
-        } else {
-            return Err(JsError::new("rgba: expected a Uint8Array or a Uint8ClampedArray"));
-        };
+        let bytes = rgba_bytes(&rgba)?;
         let o = parse_image_options(options)?;
         let shape = mesh_image(&bytes, width, height, &o).map_err(js_error)?;
         Ok(JsMesh { shape })
@@ -665,5 +670,289 @@ impl Puppet {
         };
         let q = crate::quality::quality_2d(self.rest.mesh(), positions).map_err(js_error)?;
         Ok(quality_object(&q))
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Headless rendering (issue 4): src/render.rs behind a JS class. Kept in one block at the
+// end of the file.
+
+/// Copies a typed array of the right kind into `out`, resized to `array.length / N` items
+/// (allocating only when it grows), checking that the length is a multiple of `N`.
+fn read_flat<T, A, const N: usize>(
+    what: &'static str,
+    kind: &str,
+    value: &JsValue,
+    out: &mut Vec<[T; N]>,
+    copy: impl Fn(&A, &mut [T]),
+    length: impl Fn(&A) -> u32,
+) -> Result<(), JsError>
+where
+    T: Copy + Default,
+    A: JsCast,
+{
+    let array = value.dyn_ref::<A>().ok_or_else(|| JsError::new(&format!("{what}: expected a {kind}")))?;
+    let len = length(array) as usize;
+    if len % N != 0 {
+        return Err(js_error(Error::BadLength { what, len, expected: format!("a multiple of {N}") }));
+    }
+    out.resize(len / N, [T::default(); N]);
+    copy(array, out.as_flattened_mut());
+    Ok(())
+}
+
+/// Reads `N` numbers from an array (or a `Float64Array` / `Float32Array`) option, without
+/// allocating (it runs every frame).
+fn read_numbers<const N: usize>(
+    name: &'static str,
+    value: &JsValue,
+    shape: &str,
+) -> Result<[f64; N], JsError> {
+    let bad = |reason: String| js_error(Error::BadOption { name, reason });
+    let mut out = [0.0; N];
+    let len = if let Some(a) = value.dyn_ref::<js_sys::Array>() {
+        if a.length() as usize == N {
+            for (k, slot) in out.iter_mut().enumerate() {
+                let v = a.get(k as u32);
+                *slot = v.as_f64().ok_or_else(|| bad(format!("item {k} is not a number ({v:?})")))?;
+            }
+        }
+        a.length()
+    } else if let Some(a) = value.dyn_ref::<Float64Array>() {
+        if a.length() as usize == N {
+            a.copy_to(&mut out);
+        }
+        a.length()
+    } else if let Some(a) = value.dyn_ref::<Float32Array>() {
+        if a.length() as usize == N {
+            for (k, slot) in out.iter_mut().enumerate() {
+                *slot = a.get_index(k as u32) as f64;
+            }
+        }
+        a.length()
+    } else {
+        return Err(bad(format!("expected {shape}")));
+    };
+    if len as usize != N {
+        return Err(bad(format!("expected {shape}, got {len} items")));
+    }
+    Ok(out)
+}
+
+fn parse_render_options(options: &JsValue) -> Result<crate::render::RenderOptions, JsError> {
+    let mut o = crate::render::RenderOptions::default();
+    if options.is_undefined() || options.is_null() {
+        return Ok(o);
+    }
+    if !options.is_object() {
+        return Err(JsError::new("options: expected { transform?: number[], background?: number[] }"));
+    }
+    let (transform_key, background_key) = (JsValue::from_str("transform"), JsValue::from_str("background"));
+    // check_keys, without turning every key into a Rust string (this runs every frame).
+    for key in js_sys::Object::keys(options.unchecked_ref::<js_sys::Object>()).iter() {
+        if key != transform_key && key != background_key {
+            check_keys(options, &["transform", "background"])?;
+        }
+    }
+    let get = |key: &JsValue| js_sys::Reflect::get(options, key).unwrap_or(JsValue::UNDEFINED);
+    let transform = get(&transform_key);
+    if !transform.is_undefined() {
+        // Non-finite values are named by the core.
+        o.transform = read_numbers::<6>("transform", &transform, "[a, b, c, d, e, f]")?;
+    }
+    let background = get(&background_key);
+    if !background.is_undefined() {
+        let rgba = read_numbers::<4>("background", &background, "[r, g, b, a], each an integer 0–255")?;
+        for (k, &c) in rgba.iter().enumerate() {
+            if !(c.fract() == 0.0 && (0.0..=255.0).contains(&c)) {
+                return Err(js_error(Error::BadOption {
+                    name: "background",
+                    reason: format!("item {k} ({c}) is not an integer from 0 to 255"),
+                }));
+            }
+            o.background[k] = c as u8;
+        }
+    }
+    Ok(o)
+}
+
+#[wasm_bindgen(typescript_custom_section)]
+const RENDER_TS: &str = r#"
+/** Options of `Renderer.render` and `Renderer.renderInto`. */
+export interface RenderOptions {
+  /** `[a, b, c, d, e, f]` as in `CanvasRenderingContext2D.setTransform`: a position `(x, y)` lands on output
+   *  pixel `(a·x + c·y + e, b·x + d·y + f)`. Default: the identity. */
+  transform?: number[] | Float64Array;
+  /** The colour behind the mesh, straight `[r, g, b, a]`, integers 0–255. Default: transparent. */
+  background?: number[];
+}
+"#;
+
+/// Draws a textured, deformed mesh into RGBA pixels, headless (no canvas, no GPU): for
+/// tests, for writing frames from Node, and as a Canvas 2D fallback.
+///
+/// ```js
+/// const renderer = new Renderer(imageData.data, imageData.width, imageData.height);
+/// const frame = new Uint8ClampedArray(800 * 600 * 4);
+/// renderer.renderInto(frame, puppet.update(targets), mesh.triangles, mesh.uvs, 800, 600,
+///                     { transform: [1, 0, 0, 1, 100, 0], background: [255, 255, 255, 255] });
+/// ctx.putImageData(new ImageData(frame, 800, 600), 0, 0);
+/// renderer.free();
+/// ```
+#[wasm_bindgen(js_name = Renderer)]
+pub struct JsRenderer {
+    core: crate::render::Renderer,
+    positions: Vec<[f64; 2]>,
+    triangles: Vec<[u32; 3]>,
+    uvs: Vec<[f32; 2]>,
+    frame: Vec<u8>,
+}
+
+#[wasm_bindgen(js_class = Renderer)]
+impl JsRenderer {
+    /// Takes the texture: `rgba` (a `Uint8Array` or `Uint8ClampedArray`, e.g.
+    /// `ImageData.data`) holds `width × height` pixels of 4 bytes, straight (not
+    /// premultiplied) RGBA, row by row from the top. Throws on a buffer whose length is not
+    /// `width × height × 4`, or a side of 0 or above 16384 (or more than 2²⁶ pixels).
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array | Uint8ClampedArray")] rgba: JsValue,
+        width: u32,
+        height: u32,
+    ) -> Result<JsRenderer, JsError> {
+        let bytes = rgba_bytes(&rgba)?;
+        let core = crate::render::Renderer::from_vec(bytes, width, height).map_err(js_error)?;
+        Ok(JsRenderer {
+            core,
+            positions: Vec::new(),
+            triangles: Vec::new(),
+            uvs: Vec::new(),
+            frame: Vec::new(),
+        })
+    }
+
+    /// Renders a `width × height` frame and returns it as a new `Uint8ClampedArray` of
+    /// straight RGBA, ready for `new ImageData(pixels, width, height)`.
+    ///
+    /// `positions` (`Float64Array`, `[x0, y0, …]`, e.g. what `Puppet.update` returns),
+    /// `triangles` (`Uint32Array`, `[a, b, c, …]`) and `uvs` (`Float32Array`, `[u0, v0, …]`
+    /// in 0..1 with v down, one pair per vertex, e.g. `Mesh.uvs`) describe the mesh; a uv
+    /// `(u, v)` is the texture point `(u · width, v · height)` in pixels. `options`:
+    /// `{ transform?: [a, b, c, d, e, f]` (as `CanvasRenderingContext2D.setTransform`, from
+    /// positions to output pixels; default the identity)`, background?: [r, g, b, a]`
+    /// (0–255; default transparent)` }`. Flipped triangles are drawn; where triangles
+    /// overlap the later one shows; the silhouette is anti-aliased and shared edges leave no
+    /// seams. Throws an `Error` naming the offending item: wrong array types or lengths, a
+    /// triangle naming a missing vertex, a non-finite value, an unknown or bad option, a
+    /// frame side of 0 or above 16384.
+    pub fn render(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float32Array")] uvs: JsValue,
+        width: u32,
+        height: u32,
+        #[wasm_bindgen(unchecked_optional_param_type = "RenderOptions")] options: JsValue,
+    ) -> Result<js_sys::Uint8ClampedArray, JsError> {
+        self.draw(&positions, &triangles, &uvs, width, height, &options)?;
+        let out = js_sys::Uint8ClampedArray::new_with_length(self.frame.len() as u32);
+        out.copy_from(&self.frame);
+        Ok(out)
+    }
+
+    /// Like `render`, but writes the frame into `out` (a `Uint8ClampedArray` or
+    /// `Uint8Array` of `width × height × 4` bytes, e.g. `ImageData.data`): no output is
+    /// allocated, and with the same frame size and triangles as the previous call, nothing
+    /// else but what the anti-aliased outline fill needs. The call for every animation
+    /// frame.
+    #[wasm_bindgen(js_name = renderInto)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint8ClampedArray | Uint8Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float32Array")] uvs: JsValue,
+        width: u32,
+        height: u32,
+        #[wasm_bindgen(unchecked_optional_param_type = "RenderOptions")] options: JsValue,
+    ) -> Result<(), JsError> {
+        let expected = width as u64 * height as u64 * 4;
+        let (got, clamped) = if let Some(a) = out.dyn_ref::<js_sys::Uint8ClampedArray>() {
+            (a.length(), Some(a))
+        } else if let Some(a) = out.dyn_ref::<js_sys::Uint8Array>() {
+            (a.length(), None)
+        } else {
+            return Err(JsError::new("out: expected a Uint8ClampedArray or a Uint8Array"));
+        };
+        if got as u64 != expected {
+            // The frame size is checked first: a bad one is the better message.
+            crate::render::Renderer::check_frame_size(width, height).map_err(js_error)?;
+            return Err(js_error(Error::CountMismatch {
+                what: "output length",
+                got: got as usize,
+                expected: expected as usize,
+            }));
+        }
+        self.draw(&positions, &triangles, &uvs, width, height, &options)?;
+        match clamped {
+            Some(a) => a.copy_from(&self.frame),
+            None => out.unchecked_ref::<js_sys::Uint8Array>().copy_from(&self.frame),
+        }
+        Ok(())
+    }
+
+    fn draw(
+        &mut self,
+        positions: &JsValue,
+        triangles: &JsValue,
+        uvs: &JsValue,
+        width: u32,
+        height: u32,
+        options: &JsValue,
+    ) -> Result<(), JsError> {
+        let options = parse_render_options(options)?;
+        read_flat(
+            "positions",
+            "Float64Array",
+            positions,
+            &mut self.positions,
+            Float64Array::copy_to,
+            Float64Array::length,
+        )?;
+        read_flat(
+            "triangles",
+            "Uint32Array",
+            triangles,
+            &mut self.triangles,
+            Uint32Array::copy_to,
+            Uint32Array::length,
+        )?;
+        read_flat("uvs", "Float32Array", uvs, &mut self.uvs, Float32Array::copy_to, Float32Array::length)?;
+        crate::render::Renderer::check_frame_size(width, height).map_err(js_error)?;
+        self.frame.resize(width as usize * height as usize * 4, 0);
+        self.core
+            .render_into(
+                &mut self.frame,
+                &self.positions,
+                &self.triangles,
+                &self.uvs,
+                width,
+                height,
+                &options,
+            )
+            .map_err(js_error)
+    }
+
+    /// The texture's width, in pixels.
+    #[wasm_bindgen(getter)]
+    pub fn width(&self) -> u32 {
+        self.core.width()
+    }
+
+    /// The texture's height, in pixels.
+    #[wasm_bindgen(getter)]
+    pub fn height(&self) -> u32 {
+        self.core.height()
     }
 }

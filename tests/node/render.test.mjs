@@ -1,0 +1,178 @@
+// Headless rendering through the built npm package (pkg/): a picture drawn here is meshed
+// with Mesh.fromImage, posed with Puppet and rendered with Renderer, then compared with the
+// golden PNG in tests/golden/. Regenerate the golden file (after checking the new picture)
+// with
+//
+//   BUNRAKU_UPDATE_GOLDEN=1 node --test tests/node/render.test.mjs
+//
+// Also: the rest pose reproduces the picture, renderInto matches render without growing
+// wasm memory, and every kind of bad input throws an Error that names it.
+import { test } from "node:test";
+import assert from "node:assert/strict";
+import { existsSync, mkdirSync, readFileSync, writeFileSync } from "node:fs";
+import { PNG } from "pngjs";
+import { initSync, Mesh, Puppet, Renderer } from "../../pkg/bunraku.js";
+
+const wasm = initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
+
+const golden = new URL("../golden/render-pose.png", import.meta.url);
+const update = process.env.BUNRAKU_UPDATE_GOLDEN === "1";
+
+/**
+ * A 120 × 100 picture: a round body with a long arm, anti-aliased, painted with colour
+ * bands and a dotted grid so that any shift or seam shows; a translucent rim.
+ */
+function picture(w, h) {
+  const rgba = new Uint8ClampedArray(w * h * 4);
+  const capsule = (px, py, ax, ay, bx, by, r) => {
+    const [abx, aby, apx, apy] = [bx - ax, by - ay, px - ax, py - ay];
+    const t = Math.min(1, Math.max(0, (apx * abx + apy * aby) / (abx * abx + aby * aby)));
+    return Math.hypot(apx - t * abx, apy - t * aby) - r;
+  };
+  for (let y = 0; y < h; y++)
+    for (let x = 0; x < w; x++) {
+      const [px, py] = [x + 0.5, y + 0.5];
+      const d = Math.min(Math.hypot(px - 40, py - 55) - 30, capsule(px, py, 55, 45, 108, 20, 9));
+      const coverage = Math.min(1, Math.max(0, 0.5 - d));
+      const rim = d > -4 ? 0.6 : 1; // the outer 4 px are translucent
+      const band = Math.floor((px + 0.5 * py) / 9) % 3;
+      const dot = x % 6 === 0 || y % 6 === 0;
+      const colour = dot ? [30, 30, 40] : [[230, 80, 60], [250, 200, 70], [70, 150, 220]][band];
+      rgba.set([...colour, Math.round(255 * coverage * rim)], 4 * (y * w + x));
+    }
+  return rgba;
+}
+
+const [W, H] = [120, 100];
+const rgba = picture(W, H);
+
+/** The mesh, the puppet posed (arm raised, body leaning), and the rendered frame. */
+function pose() {
+  const mesh = Mesh.fromImage(rgba, W, H, { spacing: 6 });
+  const puppet = Puppet.register(mesh.vertices, mesh.triangles);
+  const pins = new Float64Array([40, 80, 40, 40, 104, 22]); // bottom of the body, top, hand
+  puppet.compile(pins);
+  const positions = puppet.update(new Float64Array([40, 80, 48, 42, 96, -6]));
+  const renderer = new Renderer(rgba, W, H);
+  const options = { transform: [1, 0, 0, 1, 20, 20], background: [0, 0, 0, 0] };
+  const frame = renderer.render(positions, mesh.triangles, mesh.uvs, 160, 140, options);
+  return { mesh, puppet, renderer, positions, frame, width: 160, height: 140, options };
+}
+
+function writePng(url, data, width, height) {
+  const png = new PNG({ width, height });
+  png.data.set(data);
+  writeFileSync(url, PNG.sync.write(png));
+}
+
+test("a posed picture matches the golden image", (t) => {
+  const { mesh, puppet, renderer, frame, width, height } = pose();
+  assert.ok(frame instanceof Uint8ClampedArray);
+  assert.equal(frame.length, width * height * 4);
+  if (update) {
+    mkdirSync(new URL(".", golden), { recursive: true });
+    writePng(golden, frame, width, height);
+    t.diagnostic(`wrote ${golden.pathname}`);
+  }
+  assert.ok(existsSync(golden), `${golden.pathname} is missing: run with BUNRAKU_UPDATE_GOLDEN=1 to create it`);
+  const want = PNG.sync.read(readFileSync(golden));
+  assert.deepEqual([want.width, want.height], [width, height]);
+  let [worst, worstAt, off] = [0, -1, 0];
+  for (let i = 0; i < frame.length; i += 4) {
+    let d = 0;
+    for (let k = 0; k < 4; k++) d = Math.max(d, Math.abs(frame[i + k] - want.data[i + k]));
+    if (d > 2) off++;
+    if (d > worst) [worst, worstAt] = [d, i / 4];
+  }
+  const pixels = width * height;
+  t.diagnostic(
+    `worst pixel differs by ${worst} levels` +
+      (worstAt >= 0 ? ` at (${worstAt % width}, ${Math.floor(worstAt / width)})` : "") +
+      `; ${off} of ${pixels} pixels by more than 2`,
+  );
+  if (off > pixels / 1000) {
+    writePng(new URL("../golden/render-pose.actual.png", import.meta.url), frame, width, height);
+  }
+  assert.ok(off <= pixels / 1000, `${off} pixels differ by more than 2 levels (render-pose.actual.png written)`);
+  // The pose is really there: the raised hand is drawn where the pin went, not at rest.
+  const alpha = (x, y) => frame[4 * (y * width + x) + 3];
+  assert.ok(alpha(20 + 96, 20 - 3) > 0 && alpha(20 + 104, 20 + 26) === 0, "the hand moved");
+  renderer.free();
+  puppet.free();
+  mesh.free();
+});
+
+test("the rest pose reproduces the picture", () => {
+  const mesh = Mesh.fromImage(rgba, W, H, { spacing: 6 });
+  const renderer = new Renderer(rgba, W, H);
+  assert.deepEqual([renderer.width, renderer.height], [W, H]);
+  const frame = renderer.render(mesh.vertices, mesh.triangles, mesh.uvs, W, H);
+  // Compared premultiplied: a nearly transparent pixel's colour carries little information.
+  let worst = 0;
+  for (let i = 0; i < frame.length; i += 4) {
+    const [a, b] = [frame[i + 3], rgba[i + 3]];
+    worst = Math.max(worst, Math.abs(a - b));
+    for (let k = 0; k < 3; k++) worst = Math.max(worst, Math.abs((frame[i + k] * a - rgba[i + k] * b) / 255));
+  }
+  assert.ok(worst <= 1, `the rest pose differs from the picture by ${worst} levels`);
+  renderer.free();
+  mesh.free();
+});
+
+test("renderInto fills Uint8ClampedArray and Uint8Array like render, without growing memory", () => {
+  const { mesh, renderer, positions, frame, width, height, options } = pose();
+  const clamped = new Uint8ClampedArray(width * height * 4);
+  renderer.renderInto(clamped, positions, mesh.triangles, mesh.uvs, width, height, options);
+  assert.deepEqual(clamped, frame);
+  const bytes = new Uint8Array(width * height * 4).fill(9);
+  renderer.renderInto(bytes, positions, mesh.triangles, mesh.uvs, width, height, options);
+  assert.deepEqual(new Uint8ClampedArray(bytes.buffer), frame);
+  const triangles = mesh.triangles;
+  const uvs = mesh.uvs;
+  const moved = new Float64Array(positions);
+  for (let f = 0; f < 5; f++) renderer.renderInto(clamped, moved, triangles, uvs, width, height, options);
+  const before = wasm.memory.buffer.byteLength;
+  for (let f = 0; f < 50; f++) {
+    for (let k = 0; k < moved.length; k += 2) moved[k] = positions[k] + f * 0.1;
+    renderer.renderInto(clamped, moved, triangles, uvs, width, height, options);
+  }
+  assert.equal(wasm.memory.buffer.byteLength, before, "wasm memory grew while rendering frames");
+  renderer.free();
+  mesh.free();
+});
+
+test("Renderer rejects bad input with messages that name it", () => {
+  assert.throws(() => new Renderer(new Uint8Array(10), 2, 2), /10 bytes.*2 × 2 × 4 = 16/);
+  assert.throws(() => new Renderer(new Uint8Array(0), 0, 2), /size 0 × 2/);
+  assert.throws(() => new Renderer(new Uint8Array(4), 20000, 1), /size 20000 × 1/);
+  assert.throws(() => new Renderer([0, 0, 0, 0], 1, 1), /rgba: expected a Uint8Array or a Uint8ClampedArray/);
+
+  const r = new Renderer(new Uint8Array(16).fill(255), 2, 2);
+  const p = new Float64Array([0, 0, 2, 0, 2, 2, 0, 2]);
+  const t = new Uint32Array([0, 1, 2, 0, 2, 3]);
+  const uv = new Float32Array([0, 0, 1, 0, 1, 1, 0, 1]);
+  assert.deepEqual([...r.render(p, t, uv, 2, 2)], new Array(16).fill(255));
+  assert.throws(() => r.render([0, 0], t, uv, 2, 2), /positions: expected a Float64Array/);
+  assert.throws(() => r.render(p, new Float64Array(6), uv, 2, 2), /triangles: expected a Uint32Array/);
+  assert.throws(() => r.render(p, t, new Float64Array(8), 2, 2), /uvs: expected a Float32Array/);
+  assert.throws(() => r.render(p.subarray(0, 7), t, uv, 2, 2), /positions: length 7 is not a multiple of 2/);
+  assert.throws(() => r.render(p, t.subarray(0, 5), uv, 2, 2), /triangles: length 5 is not a multiple of 3/);
+  assert.throws(() => r.render(p, t, uv.subarray(0, 6), 2, 2), /uvs: got 3, expected 4/);
+  assert.throws(() => r.render(p, new Uint32Array([0, 1, 9]), uv, 2, 2), /triangle 0 refers to vertex 9, but there are only 4 vertices/);
+  assert.throws(() => r.render(new Float64Array([0, 0, 2, NaN, 2, 2, 0, 2]), t, uv, 2, 2), /positions: item 1 has a non-finite coordinate \(NaN\)/);
+  assert.throws(() => r.render(p, t, new Float32Array([0, 0, 1, 0, 1, Infinity, 0, 1]), 2, 2), /uvs: item 2 has a non-finite coordinate \(inf\)/);
+  assert.throws(() => r.render(p, t, uv, 0, 2), /output size 0 × 2 is not allowed/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { backgroud: [0, 0, 0, 0] }), /unknown option "backgroud" \(known: transform, background\)/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, 5), /options: expected/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0] }), /option transform: expected \[a, b, c, d, e, f\], got 5 items/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0, "x"] }), /option transform: item 5 is not a number/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, NaN, 0, 0] }), /option transform: item 3 is not finite/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { background: [0, 0, 256, 0] }), /option background: item 2 \(256\) is not an integer from 0 to 255/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1e300, 0, 0, 1, 0, 0] }), /positions \(in output pixels\): item 1 has a coordinate 2e300 beyond ±1e9/);
+  assert.throws(() => r.renderInto(new Uint8ClampedArray(15), p, t, uv, 2, 2), /output length: got 15, expected 16/);
+  assert.throws(() => r.renderInto(new Float32Array(16), p, t, uv, 2, 2), /out: expected a Uint8ClampedArray or a Uint8Array/);
+  // Options as typed arrays work too, and nothing above broke the renderer.
+  const frame = r.render(p, t, uv, 3, 2, { transform: new Float64Array([1, 0, 0, 1, 1, 0]), background: [0, 0, 255, 255] });
+  assert.deepEqual([...frame.subarray(0, 8)], [0, 0, 255, 255, 255, 255, 255, 255]);
+  r.free();
+});
