@@ -7,9 +7,11 @@
 #   wasm-pack 0.15.1         cargo install --locked             (~2 min)
 #   wasm-bindgen-cli         cargo install, at the version of the
 #                            wasm-bindgen in Cargo.lock          (~2-3 min)
-#   node_modules             npm ci (binaryen's wasm-opt)
+#   node_modules             npm ci (binaryen's wasm-opt, esbuild, typescript,
+#                            playwright-core, pngjs)
+#   chromium                 apt-get install (Debian's; for the browser tests)
 #
-# Everything comes from crates.io and the npm registry: wasm-pack is always
+# Everything comes from crates.io, the npm registry and Debian: wasm-pack is always
 # run with --mode no-install, so it never downloads wasm-bindgen or wasm-opt
 # itself. `cargo install` honours CARGO_INSTALL_ROOT.
 set -euo pipefail
@@ -86,11 +88,17 @@ elif [ ! -d node_modules ] || [ ! -x "$WASM_OPT" ]; then
 fi
 
 # --- browser tests -----------------------------------------------------------
-# PLACEHOLDER (a later issue): headless browser tests need Debian's Chromium
-# and its driver, installed here when missing, e.g.
-#   if ! command -v chromium >/dev/null || ! command -v chromedriver >/dev/null; then
-#     apt-get update && apt-get install -y chromium chromium-driver
-#   fi
-# Not installed yet.
+# Debian's Chromium, which playwright-core drives for tests/browser/ and
+# benches/browser.mjs (WebGL2 works headless through SwiftShader). apt needs root:
+# sudo when not root (CI runs as root).
+if [ ! -x /usr/bin/chromium ]; then
+  log "installing Debian's chromium for the browser tests: apt-get update && apt-get install -y chromium"
+  t0=$(now)
+  as_root=""
+  [ "$(id -u)" -eq 0 ] || as_root=sudo
+  $as_root apt-get update
+  $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y chromium
+  log "installed chromium in $(( $(now) - t0 )) s"
+fi
 
-log "ok: $(rustc --version | cut -d' ' -f1-2), $WASM_TARGET, $(wasm-pack --version), $(wasm-bindgen --version), wasm-opt $("$WASM_OPT" --version | awk '{print $3}'), node $(node --version)"
+log "ok: $(rustc --version | cut -d' ' -f1-2), $WASM_TARGET, $(wasm-pack --version), $(wasm-bindgen --version), wasm-opt $("$WASM_OPT" --version | awk '{print $3}'), node $(node --version), $(/usr/bin/chromium --version 2>/dev/null | cut -d' ' -f1-2)"

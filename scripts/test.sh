@@ -7,6 +7,12 @@
 #   5. node --test tests/node/*.mjs        Node tests of the built package; every .mjs, .js
 #                                          or .cjs file directly in tests/node/ whose name
 #                                          does not start with "_" is a test file
+#   6. node --test tests/browser/          the demo page end to end in headless Chromium
+#                                          (builds www/dist/ first, with its type check,
+#                                          when it is out of date)
+#   7. node --test tests/examples/         the npm package as users get it: `npm pack`,
+#                                          installed into copies of examples/node and
+#                                          examples/vite (Vite build opened in Chromium)
 # and prints the total of the runners' counts as a last line.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
@@ -44,6 +50,8 @@ if [ ${#node_tests[@]} -eq 0 ]; then
 else
   step "node --test tests/node/" node --test "${node_tests[@]}"
 fi
+step "node --test tests/browser/" node --test tests/browser/
+step "node --test tests/examples/" node --test tests/examples/
 
 # Totals over cargo's "test result: ok. N passed; M failed; K ignored" lines
 # (native and wasm) and node's "# pass N" / "# fail N" lines.

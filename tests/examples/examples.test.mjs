@@ -11,6 +11,7 @@ import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
+import { CHROMIUM, CHROMIUM_ARGS } from "../browser/_harness.mjs";
 import { PNG } from "pngjs";
 
 const root = fileURLToPath(new URL("../../", import.meta.url));
@@ -85,10 +86,7 @@ test("examples/vite type-checks, builds and runs in Chromium", async () => {
     server.stdout.on("data", (d) => /Local:/.test(String(d)) && resolve());
     server.once("exit", (code) => reject(new Error(`vite preview exited with ${code}`)));
   });
-  const browser = await chromium.launch({
-    executablePath: "/usr/bin/chromium",
-    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
-  });
+  const browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
   try {
     const page = await browser.newPage();
     const problems = [];

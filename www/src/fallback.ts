@@ -1,0 +1,57 @@
+// The Canvas 2D renderer, for browsers without WebGL2: the wasm `Renderer` (tiny-skia)
+// rasterises the textured mesh into a reused RGBA buffer, which is put on the canvas.
+
+import { Renderer } from "../../pkg/bunraku.js";
+import type { PictureRenderer } from "./renderer.js";
+import type { Affine } from "./view.js";
+
+export class CanvasRenderer implements PictureRenderer {
+  readonly name = "Canvas 2D";
+  private readonly ctx: CanvasRenderingContext2D;
+  private renderer: Renderer | null = null;
+  private triangles: Uint32Array = new Uint32Array(0);
+  private uvs: Float32Array = new Float32Array(0);
+  private out = new Uint8ClampedArray(0); // straight RGBA, width × height × 4
+  private frame: ImageData | null = null; // wraps `out` (no copy)
+
+  constructor(private readonly canvas: HTMLCanvasElement) {
+    const ctx = canvas.getContext("2d");
+    if (!ctx) throw new Error("this browser has neither WebGL2 nor a 2D canvas");
+    this.ctx = ctx;
+  }
+
+  setPicture(pixels: ImageData): void {
+    this.renderer?.free();
+    this.renderer = null;
+    this.renderer = new Renderer(pixels.data, pixels.width, pixels.height);
+  }
+
+  setMesh(triangles: Uint32Array, uvs: Float32Array): void {
+    this.triangles = triangles;
+    this.uvs = uvs;
+  }
+
+  resize(width: number, height: number): void {
+    if (this.canvas.width !== width) this.canvas.width = width;
+    if (this.canvas.height !== height) this.canvas.height = height;
+    if (this.out.length !== width * height * 4) {
+      this.out = new Uint8ClampedArray(width * height * 4);
+      this.frame = width > 0 && height > 0 ? new ImageData(this.out, width, height) : null;
+    }
+  }
+
+  draw(positions: Float64Array, transform: Affine): void {
+    const { width, height } = this.canvas;
+    if (!this.renderer || !this.frame || this.triangles.length === 0) {
+      this.ctx.clearRect(0, 0, width, height);
+      return;
+    }
+    this.renderer.renderInto(this.out, positions, this.triangles, this.uvs, width, height, { transform });
+    this.ctx.putImageData(this.frame, 0, 0);
+  }
+
+  dispose(): void {
+    this.renderer?.free();
+    this.renderer = null;
+  }
+}

@@ -1,0 +1,94 @@
+// The demo page: loads the wasm module and the default puppet in parallel, picks a
+// renderer, and wires the stage, the toolbar and the status panel to the app.
+
+import init from "../../pkg/bunraku.js";
+import { App } from "./app.js";
+import { attachControls, download } from "./controls.js";
+import { exposeHook } from "./hook.js";
+import { Overlay } from "./overlay.js";
+import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
+import { attachPointer } from "./pointer.js";
+import { createRenderer } from "./renderer.js";
+import { Status } from "./status.js";
+
+function element<T extends HTMLElement>(id: string, type: new () => T): T {
+  const el = document.getElementById(id);
+  if (!(el instanceof type)) throw new Error(`the page has no <${type.name}> #${id}`);
+  return el;
+}
+
+async function main(status: Status): Promise<void> {
+  // Both downloads start at once. The wasm file sits next to this bundle (esbuild does
+  // not rewrite wasm-bindgen's own `new URL("bunraku_bg.wasm", import.meta.url)`).
+  const wasm = init({ module_or_path: new URL("bunraku_bg.wasm", import.meta.url) });
+  const firstPicture = pictureFromURL(DEFAULT_PUPPET.url, DEFAULT_PUPPET.name);
+
+  const stage = element("stage", HTMLCanvasElement);
+  const wrap = element("stage-wrap", HTMLElement);
+  const density = element("density", HTMLInputElement);
+  const choice = new URLSearchParams(location.search).get("renderer") === "2d" ? "2d" : "auto";
+  await wasm;
+  let app: App | null = null;
+  const renderer = createRenderer(stage, choice, (lost) => app?.contextLost(lost));
+  app = new App({
+    stage,
+    renderer,
+    overlay: new Overlay(element("overlay", HTMLCanvasElement)),
+    status,
+    density: Number(density.value),
+  });
+  const theApp = app;
+
+  const measure = () => {
+    const r = wrap.getBoundingClientRect();
+    theApp.resize(r.width, r.height, window.devicePixelRatio || 1);
+  };
+  measure();
+  new ResizeObserver(measure).observe(wrap);
+
+  attachPointer(stage, theApp);
+  attachControls(
+    {
+      file: element("file", HTMLInputElement),
+      density,
+      densityValue: element("density-value", HTMLOutputElement),
+      wireframe: element("wireframe", HTMLInputElement),
+      pins: element("show-pins", HTMLInputElement),
+      reset: element("reset", HTMLButtonElement),
+      export: element("export", HTMLButtonElement),
+      dropZone: document.body,
+    },
+    {
+      openFile: (file) => {
+        status.info(`reading ${file.name}…`);
+        pictureFromFile(file).then((p) => theApp.loadPicture(p), (e) => status.error(e));
+      },
+      setDensity: (n) => theApp.setDensity(n),
+      showWireframe: (on) => theApp.showWireframe(on),
+      showPins: (on) => theApp.showPins(on),
+      resetPose: () => theApp.resetPose(),
+      exportPNG: () => {
+        const name = theApp.current?.picture.name.replace(/\.[^.]*$/, "") ?? "bunraku";
+        theApp.exportPNG().then((blob) => download(blob, `${name}-posed.png`), (e) => status.error(e));
+      },
+    },
+  );
+  exposeHook(theApp, stage, renderer.name);
+  theApp.loadPicture(await firstPicture, DEFAULT_PUPPET.pins);
+}
+
+const status = new Status({
+  pins: element("pin-count", HTMLElement),
+  mesh: element("mesh-info", HTMLElement),
+  solve: element("solve-time", HTMLElement),
+  fps: element("fps", HTMLElement),
+  renderer: element("renderer-name", HTMLElement),
+  message: element("message", HTMLElement),
+});
+// Whatever escapes a handler is shown on the page, not left as an uncaught exception.
+window.addEventListener("error", (e) => status.error(e.error ?? e.message));
+window.addEventListener("unhandledrejection", (e) => {
+  e.preventDefault();
+  status.error(e.reason);
+});
+main(status).catch((e: unknown) => status.error(e, "the demo could not start"));

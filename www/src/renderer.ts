@@ -1,0 +1,36 @@
+// Drawing the textured mesh on the stage canvas: what a renderer does, and which one the
+// browser gets — WebGL2 when the canvas gives a WebGL2 context, else Canvas 2D with the
+// wasm rasteriser (tiny-skia).
+
+import type { Affine } from "./view.js";
+import { createGLRenderer } from "./gl.js";
+import { CanvasRenderer } from "./fallback.js";
+
+export interface PictureRenderer {
+  /** "WebGL2" or "Canvas 2D", shown on the page. */
+  readonly name: string;
+  /** The texture: straight RGBA pixels (premultiplied by the renderer). */
+  setPicture(pixels: ImageData): void;
+  /** The mesh: triangles `[a0, b0, c0, …]` and one `[u, v]` per vertex. */
+  setMesh(triangles: Uint32Array, uvs: Float32Array): void;
+  /** Sizes the canvas's drawing buffer, in device pixels. */
+  resize(width: number, height: number): void;
+  /** Draws the mesh at `positions` (`[x0, y0, …]`, picture pixels) mapped by `transform`
+   *  to device pixels, over a transparent background. */
+  draw(positions: Float64Array, transform: Affine): void;
+  /** Releases GPU or wasm memory. */
+  dispose(): void;
+}
+
+export type RendererChoice = "auto" | "2d";
+
+/** WebGL2 unless `choice` is "2d" (the page's `?renderer=2d`) or the canvas has no WebGL2
+ *  context (old browsers, disabled GPU features): then Canvas 2D. `onLost` is told when
+ *  the GPU context is lost and when it comes back. */
+export function createRenderer(canvas: HTMLCanvasElement, choice: RendererChoice, onLost: (lost: boolean) => void): PictureRenderer {
+  if (choice !== "2d") {
+    const gl = createGLRenderer(canvas, onLost);
+    if (gl) return gl;
+  }
+  return new CanvasRenderer(canvas);
+}

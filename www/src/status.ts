@@ -1,0 +1,74 @@
+// What the page tells the user: pin count, mesh size, renderer, solve time and frame rate
+// (refreshed a few times a second, not every frame), and messages — errors included, so
+// that nothing the library throws ends up as an uncaught exception.
+
+const REFRESH_MS = 250;
+
+export interface StatusElements {
+  pins: HTMLElement;
+  mesh: HTMLElement;
+  solve: HTMLElement;
+  fps: HTMLElement;
+  renderer: HTMLElement;
+  message: HTMLElement;
+}
+
+export class Status {
+  private lastRefresh = -Infinity;
+  private idleTimer = 0;
+
+  constructor(private readonly el: StatusElements) {}
+
+  /** Shows an error (a thrown value of any kind) until the next message. */
+  error(error: unknown, context?: string): void {
+    const text = error instanceof Error ? error.message : String(error);
+    this.say(context ? `${context}: ${text}` : text, "error");
+  }
+
+  info(text: string): void {
+    this.say(text, "info");
+  }
+
+  clear(): void {
+    this.say("", "info");
+  }
+
+  pins(count: number): void {
+    this.el.pins.textContent = String(count);
+  }
+
+  mesh(name: string, vertices: number, triangles: number): void {
+    this.el.mesh.textContent = `${name}: ${vertices} vertices, ${triangles} triangles`;
+    this.el.mesh.dataset.vertices = String(vertices);
+    this.el.mesh.dataset.triangles = String(triangles);
+  }
+
+  renderer(name: string): void {
+    this.el.renderer.textContent = name;
+  }
+
+  /** Timings after a frame; `idle` says how to show them when no frame follows. */
+  timings(solveMs: number | null, fps: number | null, idle: () => { solveMs: number | null; fps: number | null }): void {
+    const now = performance.now();
+    if (now - this.lastRefresh >= REFRESH_MS) {
+      this.lastRefresh = now;
+      this.showTimings(solveMs, fps);
+    }
+    clearTimeout(this.idleTimer);
+    this.idleTimer = window.setTimeout(() => {
+      const t = idle();
+      this.showTimings(t.solveMs, t.fps);
+    }, 1100);
+  }
+
+  private showTimings(solveMs: number | null, fps: number | null): void {
+    this.el.solve.textContent = solveMs === null ? "–" : `${solveMs < 1 ? solveMs.toFixed(2) : solveMs.toFixed(1)} ms`;
+    this.el.fps.textContent = fps === null ? "idle" : `${fps.toFixed(0)} fps`;
+  }
+
+  private say(text: string, kind: "error" | "info"): void {
+    this.el.message.textContent = text;
+    this.el.message.dataset.kind = kind;
+    this.el.message.hidden = text === "";
+  }
+}
