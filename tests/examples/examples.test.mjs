@@ -70,6 +70,15 @@ test("examples/node runs against the installed package", () => {
   const out = run("node", ["drag.mjs", "30"], dir);
   assert.match(out, /compile: 4 pins/);
   assert.match(out, /pins back at rest: shape restored to/);
+  // A picture deformed and written as PNG frames by Renderer.
+  const frames = join(work, "frames");
+  run("node", ["render.mjs", "3", frames], dir);
+  const written = readdirSync(frames).filter((f) => f.endsWith(".png")).sort();
+  assert.equal(written.length, 3, `${written}`);
+  const png = PNG.sync.read(readFileSync(join(frames, written[2])));
+  let opaque = 0;
+  for (let k = 3; k < png.data.length; k += 4) opaque += png.data[k] === 255;
+  assert.ok(opaque > 0.1 * png.width * png.height, `${opaque} opaque pixels of ${png.width} × ${png.height}`);
 });
 
 test("examples/vite type-checks, builds and runs in Chromium", async () => {
