@@ -29,6 +29,8 @@ use num_complex::Complex64;
 
 use crate::error::{Error, Result};
 
+mod numeric;
+
 /// The upper triangle of a symmetric (or Hermitian) sparsity pattern in compressed sparse
 /// column form, rows sorted within each column, the diagonal always present.
 #[derive(Debug, Clone)]
@@ -85,6 +87,12 @@ pub struct Symbolic {
     perm: Vec<u32>,
     /// The longest off-diagonal pattern.
     max_rows: usize,
+    /// For each entry of the pattern, where it goes in the factor's values (`offset << 1`)
+    /// and whether it is conjugated on the way (bit 0: it lands in the lower triangle
+    /// mirrored); read by the own numeric factorisation ([`numeric`]).
+    assembly: Vec<u32>,
+    /// `supernode_of[k]`: the supernode of eliminated column `k`.
+    supernode_of: Vec<u32>,
 }
 
 impl Symbolic {
@@ -159,7 +167,43 @@ impl Symbolic {
             Some(p) => p.arrays().0.iter().map(|&x| narrow(x)).collect::<Result<Vec<u32>>>()?,
             None => (0..n as u32).collect(),
         };
-        Ok(Symbolic { pattern, cholesky, supernodes, rows, perm, max_rows })
+        let mut supernode_of = vec![0u32; n];
+        for (s, sn) in supernodes.iter().enumerate() {
+            supernode_of[sn.start as usize..(sn.start + sn.ncols) as usize].fill(s as u32);
+        }
+        let mut position = vec![0u32; n];
+        for (k, &p) in perm.iter().enumerate() {
+            position[p as usize] = k as u32;
+        }
+        if l.len_val() >= 1 << 31 {
+            return Err(too_large());
+        }
+        let mut assembly = Vec::with_capacity(pattern.row_idx.len());
+        for j in 0..n {
+            for (_, i) in pattern.column(j) {
+                // Entry (i, j), i ≤ j, of A is entry (pi, pj) of the permuted matrix; the
+                // factor keeps the lower triangle, so it goes to (max, min), conjugated
+                // when that mirrors it.
+                let (pi, pj) = (position[i], position[j]);
+                let (r, c) = (pi.max(pj), pi.min(pj));
+                let sn = &supernodes[supernode_of[c as usize] as usize];
+                let local_row = if r < sn.start + sn.ncols {
+                    r - sn.start
+                } else {
+                    let off = &rows[sn.row_start as usize..][..sn.row_len as usize];
+                    sn.ncols
+                        + off
+                            .binary_search(&r)
+                            .map_err(|_| Error::Factorization("unexpected factor structure".into()))?
+                            as u32
+                };
+                let offset = sn.value_start
+                    + (c - sn.start) as usize * (sn.ncols + sn.row_len) as usize
+                    + local_row as usize;
+                assembly.push((offset as u32) << 1 | u32::from(pi < pj));
+            }
+        }
+        Ok(Symbolic { pattern, cholesky, supernodes, rows, perm, max_rows, assembly, supernode_of })
     }
 
     /// The pattern this was built for.
@@ -322,6 +366,12 @@ impl Rhs<Complex64> for Quad {
 pub trait Entry: ComplexField + Copy {
     /// The real part (the whole value on the diagonal).
     fn re(self) -> f64;
+
+    /// The factor's values in faer's supernodal layout: by faer, unless a faster way is
+    /// known for the type and the target.
+    fn factorize(symbolic: &Symbolic, values: &[Self]) -> Result<Vec<Self>> {
+        Ok(Factor::new_faer(symbolic, values)?.values)
+    }
 }
 
 impl Entry for f64 {
@@ -334,12 +384,27 @@ impl Entry for Complex64 {
     fn re(self) -> f64 {
         self.re
     }
+
+    /// In wasm, the project's own factorisation with `f64x2` kernels ([`numeric`]): faer's
+    /// complex dense kernels are scalar there.
+    fn factorize(symbolic: &Symbolic, values: &[Self]) -> Result<Vec<Self>> {
+        if cfg!(target_arch = "wasm32") {
+            numeric::factorize(symbolic, values)
+        } else {
+            Ok(Factor::new_faer(symbolic, values)?.values)
+        }
+    }
 }
 
 impl<T: Entry> Factor<T> {
     /// Factorises the matrix whose upper triangle has `values` in `symbolic`'s pattern order.
     /// Fails if the matrix is not numerically positive definite.
     pub fn new(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T>> {
+        Ok(Factor { values: T::factorize(symbolic, values)? })
+    }
+
+    /// [`Factor::new`] by faer.
+    fn new_faer(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T>> {
         let n = symbolic.pattern.n;
         let a = SparseColMatRef::new(symbolic.pattern.symbolic(), values);
         let chol = &symbolic.cholesky;

@@ -1,0 +1,353 @@
+//! The project's own numeric supernodal Cholesky factorisation of the complex step-1
+//! matrix, on the structure faer's symbolic analysis gives ([`Symbolic`]), writing the very
+//! value layout faer's supernodal factor has (so the back-substitutions read either).
+//!
+//! Why: in WebAssembly, faer 0.24's dense kernels for complex numbers are scalar (gemm
+//! 0.19 has wasm `simd128` kernels for real types only, nano-gemm none), and they took
+//! over half of `compile` at 30k vertices. Here the dense products run on `f64x2` lanes
+//! in wasm ([`product`]); natively faer's AVX kernels are faster, so faer stays in use
+//! there (and serves as the reference in the tests).
+//!
+//! The method is right-looking and blocked:
+//!
+//! 1. Scatter the matrix's upper triangle into the lower-triangular supernode blocks
+//!    ([`Symbolic`] precomputes where each entry goes).
+//! 2. For each supernode in elimination order, factor its `(c + p) × c` panel in blocks of
+//!    [`BLOCK`] columns: subtract the product of the block's rows with the finished
+//!    columns to its left, then run the plain column Cholesky inside the block.
+//! 3. Subtract the panel's Schur complement `L₂₁ L₂₁ᴴ` from the blocks of the supernodes
+//!    its off-diagonal rows belong to, [`BLOCK`] columns at a time.
+//!
+//! Each finished panel column is packed once into split real / imaginary arrays, so that
+//! the products load two rows' real parts (or imaginary parts) as one `f64x2`.
+
+use num_complex::Complex64;
+
+use super::Symbolic;
+use crate::error::{Error, Result};
+
+/// Columns per block of the panel factorisation and of the Schur-complement update.
+const BLOCK: usize = 16;
+
+/// Rows are processed four at a time; packed columns carry this much zero padding.
+const PAD: usize = 4;
+
+/// Factorises the Hermitian matrix whose upper triangle has `values` in `symbolic`'s
+/// pattern order into faer's supernodal value layout. Fails if the matrix is not
+/// numerically positive definite.
+pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec<Complex64>> {
+    let zero = Complex64::new(0.0, 0.0);
+    let mut l = vec![zero; symbolic.cholesky.len_val()];
+    for (&v, &slot) in values.iter().zip(&symbolic.assembly) {
+        let (offset, conjugate) = ((slot >> 1) as usize, slot & 1 == 1);
+        l[offset] = if conjugate { v.conj() } else { v };
+    }
+    let widest = symbolic.supernodes.iter().map(|s| (s.ncols + s.row_len) as usize).max().unwrap_or(0);
+    let widest_cols = symbolic.supernodes.iter().map(|s| s.ncols as usize).max().unwrap_or(0);
+    let mut update = vec![zero; widest * BLOCK];
+    let mut packed = vec![0.0; 2 * (widest + PAD) * widest_cols];
+    let mut relative = vec![0u32; symbolic.max_rows];
+
+    for sn in &symbolic.supernodes {
+        let (c, p) = (sn.ncols as usize, sn.row_len as usize);
+        let ld = c + p;
+        let stride = ld + PAD;
+        let (head, tail) = l.split_at_mut(sn.value_start + ld * c);
+        let panel = &mut head[sn.value_start..];
+
+        // 2. The panel, BLOCK columns at a time.
+        for j0 in (0..c).step_by(BLOCK) {
+            let nb = BLOCK.min(c - j0);
+            if j0 > 0 {
+                let m = ld - j0;
+                product(&packed, stride, j0, m, j0, nb, j0, &mut update);
+                for jj in 0..nb {
+                    let column = &mut panel[(j0 + jj) * ld + j0..(j0 + jj + 1) * ld];
+                    for (x, &u) in column.iter_mut().zip(&update[jj * m..(jj + 1) * m]).skip(jj) {
+                        *x -= u;
+                    }
+                }
+            }
+            for j in j0..j0 + nb {
+                for k in j0..j {
+                    let f = panel[k * ld + j].conj();
+                    let (left, right) = panel.split_at_mut(j * ld);
+                    for (x, &y) in right[j..ld].iter_mut().zip(&left[k * ld + j..k * ld + ld]) {
+                        *x -= y * f;
+                    }
+                }
+                let d = panel[j * ld + j].re;
+                if !(d > 0.0 && d.is_finite()) {
+                    return Err(Error::Factorization(format!(
+                        "matrix of order {} is not positive definite (pivot {d:e})",
+                        symbolic.pattern.n
+                    )));
+                }
+                let d = d.sqrt();
+                panel[j * ld + j] = Complex64::new(d, 0.0);
+                let inverse = 1.0 / d;
+                for x in &mut panel[j * ld + j + 1..(j + 1) * ld] {
+                    *x *= inverse;
+                }
+                pack_column(&panel[j * ld..(j + 1) * ld], &mut packed[2 * stride * j..2 * stride * (j + 1)]);
+            }
+        }
+
+        // 3. The Schur complement, to the supernodes the off-diagonal rows belong to.
+        let rows = &symbolic.rows[sn.row_start as usize..][..p];
+        let mut b0 = 0;
+        while b0 < p {
+            let target = &symbolic.supernodes[symbolic.supernode_of[rows[b0] as usize] as usize];
+            let end = target.start + target.ncols;
+            let b1 = b0 + rows[b0..].iter().take_while(|&&r| r < end).count();
+            // Where rows[b0..] sit in the target's block.
+            let target_rows = &symbolic.rows[target.row_start as usize..][..target.row_len as usize];
+            let mut q = 0;
+            for (slot, &r) in relative.iter_mut().zip(&rows[b0..]) {
+                *slot = if r < end {
+                    r - target.start
+                } else {
+                    while q < target_rows.len() && target_rows[q] < r {
+                        q += 1;
+                    }
+                    if q == target_rows.len() || target_rows[q] != r {
+                        return Err(Error::Factorization("unexpected factor structure".into()));
+                    }
+                    target.ncols + q as u32
+                };
+            }
+            let m = p - b0;
+            let target_ld = (target.ncols + target.row_len) as usize;
+            for c0 in (b0..b1).step_by(BLOCK) {
+                let n = BLOCK.min(b1 - c0);
+                product(&packed, stride, c + b0, m, c + c0, n, c, &mut update);
+                for jj in 0..n {
+                    let column = (rows[c0 + jj] - target.start) as usize;
+                    let base = target.value_start + column * target_ld - (sn.value_start + ld * c);
+                    let first = c0 - b0 + jj;
+                    for (ii, &u) in update[jj * m..(jj + 1) * m].iter().enumerate().skip(first) {
+                        tail[base + relative[ii] as usize] -= u;
+                    }
+                }
+            }
+            b0 = b1;
+        }
+    }
+    Ok(l)
+}
+
+/// Packs one finished panel column into `out`: its real parts, then its imaginary parts,
+/// each `out.len() / 2` long (the rows beyond the column stay zero).
+fn pack_column(column: &[Complex64], out: &mut [f64]) {
+    let (re, im) = out.split_at_mut(out.len() / 2);
+    for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(column) {
+        *r = z.re;
+        *i = z.im;
+    }
+}
+
+/// `out[i + j·m] = Σ_{k < depth} A[ra + i, k] · conj(A[rb + j, k])` for `i < m`, `j < n`,
+/// where column `k` of `A` is packed at `packed[2·stride·k..]` (real parts, then imaginary
+/// parts, each `stride` long).
+#[allow(clippy::too_many_arguments)]
+fn product(
+    packed: &[f64],
+    stride: usize,
+    ra: usize,
+    m: usize,
+    rb: usize,
+    n: usize,
+    depth: usize,
+    out: &mut [Complex64],
+) {
+    #[cfg(target_arch = "wasm32")]
+    {
+        product_simd128(packed, stride, ra, m, rb, n, depth, out)
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        product_scalar(packed, stride, ra, m, rb, n, depth, out)
+    }
+}
+
+/// [`product`] one complex multiply-add at a time.
+#[allow(clippy::too_many_arguments, dead_code)]
+fn product_scalar(
+    packed: &[f64],
+    stride: usize,
+    ra: usize,
+    m: usize,
+    rb: usize,
+    n: usize,
+    depth: usize,
+    out: &mut [Complex64],
+) {
+    for j in 0..n {
+        let column = &mut out[j * m..(j + 1) * m];
+        column.fill(Complex64::new(0.0, 0.0));
+        for k in 0..depth {
+            let (re, im) = packed[2 * stride * k..2 * stride * (k + 1)].split_at(stride);
+            let b = Complex64::new(re[rb + j], -im[rb + j]);
+            for (i, x) in column.iter_mut().enumerate() {
+                *x += Complex64::new(re[ra + i], im[ra + i]) * b;
+            }
+        }
+    }
+}
+
+/// [`product`] on `f64x2` lanes: tiles of 4 rows × 2 columns, with the real and the
+/// imaginary parts of two rows in one vector each, so a complex multiply-add of two rows
+/// by one column is four vector multiplies and four vector adds. Rows past `m` in a tile
+/// read the zero padding (or rows that exist) and are not stored; an odd last column is
+/// computed twice and stored once.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+#[allow(clippy::too_many_arguments)]
+fn product_simd128(
+    packed: &[f64],
+    stride: usize,
+    ra: usize,
+    m: usize,
+    rb: usize,
+    n: usize,
+    depth: usize,
+    out: &mut [Complex64],
+) {
+    use core::arch::wasm32::*;
+    if m == 0 || n == 0 {
+        return;
+    }
+    // The loads below read 4 rows from `ra + i` with i < m rounded up to 4: within the
+    // packed column (stride ≥ rows + PAD).
+    assert!(ra + m.div_ceil(4) * 4 <= stride && rb + n <= stride && packed.len() >= 2 * stride * depth);
+    let base = packed.as_ptr();
+    for j in (0..n).step_by(2) {
+        let j1 = (j + 1).min(n - 1);
+        for i in (0..m).step_by(4) {
+            let (mut re00, mut re01, mut im00, mut im01) =
+                (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
+            let (mut re10, mut re11, mut im10, mut im11) =
+                (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
+            for k in 0..depth {
+                // SAFETY: the assert above bounds every offset by 2·stride·depth.
+                unsafe {
+                    let re = base.add(2 * stride * k);
+                    let im = re.add(stride);
+                    let ar0 = v128_load(re.add(ra + i) as *const v128);
+                    let ar1 = v128_load(re.add(ra + i + 2) as *const v128);
+                    let ai0 = v128_load(im.add(ra + i) as *const v128);
+                    let ai1 = v128_load(im.add(ra + i + 2) as *const v128);
+                    let (br0, bi0) = (f64x2_splat(*re.add(rb + j)), f64x2_splat(*im.add(rb + j)));
+                    let (br1, bi1) = (f64x2_splat(*re.add(rb + j1)), f64x2_splat(*im.add(rb + j1)));
+                    // a · conj(b) = (ar·br + ai·bi) + i (ai·br − ar·bi)
+                    re00 = f64x2_add(re00, f64x2_add(f64x2_mul(ar0, br0), f64x2_mul(ai0, bi0)));
+                    re01 = f64x2_add(re01, f64x2_add(f64x2_mul(ar1, br0), f64x2_mul(ai1, bi0)));
+                    im00 = f64x2_add(im00, f64x2_sub(f64x2_mul(ai0, br0), f64x2_mul(ar0, bi0)));
+                    im01 = f64x2_add(im01, f64x2_sub(f64x2_mul(ai1, br0), f64x2_mul(ar1, bi0)));
+                    re10 = f64x2_add(re10, f64x2_add(f64x2_mul(ar0, br1), f64x2_mul(ai0, bi1)));
+                    re11 = f64x2_add(re11, f64x2_add(f64x2_mul(ar1, br1), f64x2_mul(ai1, bi1)));
+                    im10 = f64x2_add(im10, f64x2_sub(f64x2_mul(ai0, br1), f64x2_mul(ar0, bi1)));
+                    im11 = f64x2_add(im11, f64x2_sub(f64x2_mul(ai1, br1), f64x2_mul(ar1, bi1)));
+                }
+            }
+            let columns = [(j, [re00, re01], [im00, im01]), (j1, [re10, re11], [im10, im11])];
+            for (q, &(col, re, im)) in columns.iter().enumerate() {
+                if q == 1 && j1 == j {
+                    break;
+                }
+                let lanes = |v: [v128; 2]| {
+                    [
+                        f64x2_extract_lane::<0>(v[0]),
+                        f64x2_extract_lane::<1>(v[0]),
+                        f64x2_extract_lane::<0>(v[1]),
+                        f64x2_extract_lane::<1>(v[1]),
+                    ]
+                };
+                let (re, im) = (lanes(re), lanes(im));
+                for r in 0..4.min(m - i) {
+                    out[col * m + i + r] = Complex64::new(re[r], im[r]);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::{Factor, Pattern};
+
+    /// A random Hermitian positive definite matrix on the pattern of a grid's 2-ring
+    /// (like step 1's), as upper-triangle values.
+    fn grid_matrix(side: usize) -> (Pattern, Vec<Complex64>) {
+        let n = side * side;
+        let mut columns: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for y in 0..side {
+            for x in 0..side {
+                let j = y * side + x;
+                for dy in -2i64..=2 {
+                    for dx in -2i64..=2 {
+                        let (xx, yy) = (x as i64 + dx, y as i64 + dy);
+                        if xx >= 0 && yy >= 0 && (xx as usize) < side && (yy as usize) < side {
+                            let i = yy as usize * side + xx as usize;
+                            if i <= j {
+                                columns[j].push(i);
+                            }
+                        }
+                    }
+                }
+                columns[j].sort();
+            }
+        }
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        let mut values = Vec::new();
+        let mut seed = 12345u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for (j, rows) in columns.iter().enumerate() {
+            for &i in rows {
+                row_idx.push(i);
+                values.push(if i == j {
+                    Complex64::new(30.0, 0.0)
+                } else {
+                    Complex64::new(random(), random())
+                });
+            }
+            col_ptr.push(row_idx.len());
+        }
+        (Pattern::new(n, col_ptr, row_idx), values)
+    }
+
+    #[test]
+    fn matches_faer_on_a_grid() {
+        for side in [3, 7, 30, 60] {
+            let (pattern, values) = grid_matrix(side);
+            let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
+            let faer = Factor::new_faer(&symbolic, &values).unwrap();
+            let own = factorize(&symbolic, &values).unwrap();
+            // The factor proper: the lower triangle of each block (faer leaves other
+            // values above the diagonal, which nothing reads).
+            let mut lower = Vec::new();
+            for sn in &symbolic.supernodes {
+                let (c, ld) = (sn.ncols as usize, (sn.ncols + sn.row_len) as usize);
+                for j in 0..c {
+                    lower.extend((j..ld).map(|i| sn.value_start + j * ld + i));
+                }
+            }
+            let scale = lower.iter().map(|&k| faer.values[k].norm()).fold(0.0, f64::max);
+            let worst = lower.iter().map(|&k| (faer.values[k] - own[k]).norm()).fold(0.0, f64::max);
+            assert!(worst <= 1e-12 * scale, "side {side}: {worst:e} of {scale:e}");
+        }
+    }
+
+    #[test]
+    fn rejects_an_indefinite_matrix() {
+        let (pattern, mut values) = grid_matrix(5);
+        values[0] = Complex64::new(-1.0, 0.0);
+        let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
+        assert!(matches!(factorize(&symbolic, &values), Err(Error::Factorization(_))));
+    }
+}
