@@ -321,7 +321,9 @@ mod tests {
         (Pattern::new(n, col_ptr, row_idx), values)
     }
 
-    #[test]
+    // Also in wasm (`wasm-pack test --node`), where `factorize` runs the f64x2 kernels.
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     fn matches_faer_on_a_grid() {
         for side in [3, 7, 30, 60] {
             let (pattern, values) = grid_matrix(side);
@@ -343,7 +345,8 @@ mod tests {
         }
     }
 
-    #[test]
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     fn rejects_an_indefinite_matrix() {
         let (pattern, mut values) = grid_matrix(5);
         values[0] = Complex64::new(-1.0, 0.0);
