@@ -6,7 +6,9 @@
 //! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]);
 //! an update only back-substitutes, in buffers allocated at compilation.
 //!
-//! faer orders and factorises (supernodal). The back-substitutions are written here, on
+//! faer orders and factorises (supernodal); in wasm the complex step-1 matrix is factorised
+//! by [`numeric`] instead, on faer's symbolic structure, because faer's complex dense
+//! kernels have no wasm SIMD path there. The back-substitutions are written here, on
 //! faer's supernodal factor: they are memory-bound, and these stream each dense supernode
 //! block once per pass, scatter or gather its off-diagonal rows once, solve step 2's x and
 //! y together, and permute only once each way. (faer's own supernodal solve calls its
