@@ -237,8 +237,14 @@ fn product_simd128(
                     let ar1 = v128_load(re.add(ra + i + 2) as *const v128);
                     let ai0 = v128_load(im.add(ra + i) as *const v128);
                     let ai1 = v128_load(im.add(ra + i + 2) as *const v128);
-                    let (br0, bi0) = (f64x2_splat(*re.add(rb + j)), f64x2_splat(*im.add(rb + j)));
-                    let (br1, bi1) = (f64x2_splat(*re.add(rb + j1)), f64x2_splat(*im.add(rb + j1)));
+                    let (br0, bi0) = (
+                        v128_load64_splat(re.add(rb + j) as *const u64),
+                        v128_load64_splat(im.add(rb + j) as *const u64),
+                    );
+                    let (br1, bi1) = (
+                        v128_load64_splat(re.add(rb + j1) as *const u64),
+                        v128_load64_splat(im.add(rb + j1) as *const u64),
+                    );
                     // a · conj(b) = (ar·br + ai·bi) + i (ai·br − ar·bi)
                     re00 = f64x2_add(re00, f64x2_add(f64x2_mul(ar0, br0), f64x2_mul(ai0, bi0)));
                     re01 = f64x2_add(re01, f64x2_add(f64x2_mul(ar1, br0), f64x2_mul(ai1, bi0)));
