@@ -36,6 +36,7 @@ const PAD: usize = 4;
 /// pattern order into faer's supernodal value layout. Fails if the matrix is not
 /// numerically positive definite.
 pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec<Complex64>> {
+    // 1. The matrix into the blocks.
     let zero = Complex64::new(0.0, 0.0);
     let mut l = vec![zero; symbolic.cholesky.len_val()];
     for (&v, &slot) in values.iter().zip(&symbolic.assembly) {
@@ -137,7 +138,8 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
 }
 
 /// Packs one finished panel column into `out`: its real parts, then its imaginary parts,
-/// each `out.len() / 2` long (the rows beyond the column stay zero).
+/// each `out.len() / 2` long. The rows beyond the column keep whatever an earlier
+/// supernode left there: [`product`] reads them only into lanes it does not store.
 fn pack_column(column: &[Complex64], out: &mut [f64]) {
     let (re, im) = out.split_at_mut(out.len() / 2);
     for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(column) {
@@ -198,8 +200,8 @@ fn product_scalar(
 /// [`product`] on `f64x2` lanes: tiles of 4 rows × 2 columns, with the real and the
 /// imaginary parts of two rows in one vector each, so a complex multiply-add of two rows
 /// by one column is four vector multiplies and four vector adds. Rows past `m` in a tile
-/// read the zero padding (or rows that exist) and are not stored; an odd last column is
-/// computed twice and stored once.
+/// read the padding or rows below (each lane is computed on its own) and are not stored;
+/// an odd last column is computed twice and stored once.
 #[cfg(target_arch = "wasm32")]
 #[target_feature(enable = "simd128")]
 #[allow(clippy::too_many_arguments)]
