@@ -29,7 +29,8 @@ use crate::error::{Error, Result};
 /// Columns per block of the panel factorisation and of the Schur-complement update.
 const BLOCK: usize = 16;
 
-/// Rows are processed four at a time; packed columns carry this much zero padding.
+/// Rows are processed four at a time; packed columns carry this much padding, so a tile
+/// of four rows never reads past its column.
 const PAD: usize = 4;
 
 /// Factorises the Hermitian matrix whose upper triangle has `values` in `symbolic`'s
