@@ -16,6 +16,7 @@
 //! these meshes, most of all in wasm; its simplicial factorisation was slower to compute.)
 
 use std::ops::{AddAssign, Div, Mul, SubAssign};
+use std::sync::OnceLock;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -89,12 +90,9 @@ pub struct Symbolic {
     perm: Vec<u32>,
     /// The longest off-diagonal pattern.
     max_rows: usize,
-    /// For each entry of the pattern, where it goes in the factor's values (`offset << 1`)
-    /// and whether it is conjugated on the way (bit 0: it lands in the lower triangle
-    /// mirrored); read by the own numeric factorisation ([`numeric`]).
-    assembly: Vec<u32>,
-    /// `supernode_of[k]`: the supernode of eliminated column `k`.
-    supernode_of: Vec<u32>,
+    /// What the own numeric factorisation ([`numeric`]) needs beyond this, made at its
+    /// first use: only the complex factorisation in wasm uses it.
+    assembly: OnceLock<numeric::Assembly>,
 }
 
 impl Symbolic {
@@ -169,43 +167,7 @@ impl Symbolic {
             Some(p) => p.arrays().0.iter().map(|&x| narrow(x)).collect::<Result<Vec<u32>>>()?,
             None => (0..n as u32).collect(),
         };
-        let mut supernode_of = vec![0u32; n];
-        for (s, sn) in supernodes.iter().enumerate() {
-            supernode_of[sn.start as usize..(sn.start + sn.ncols) as usize].fill(s as u32);
-        }
-        let mut position = vec![0u32; n];
-        for (k, &p) in perm.iter().enumerate() {
-            position[p as usize] = k as u32;
-        }
-        if l.len_val() >= 1 << 31 {
-            return Err(too_large());
-        }
-        let mut assembly = Vec::with_capacity(pattern.row_idx.len());
-        for j in 0..n {
-            for (_, i) in pattern.column(j) {
-                // Entry (i, j), i ≤ j, of A is entry (pi, pj) of the permuted matrix; the
-                // factor keeps the lower triangle, so it goes to (max, min), conjugated
-                // when that mirrors it.
-                let (pi, pj) = (position[i], position[j]);
-                let (r, c) = (pi.max(pj), pi.min(pj));
-                let sn = &supernodes[supernode_of[c as usize] as usize];
-                let local_row = if r < sn.start + sn.ncols {
-                    r - sn.start
-                } else {
-                    let off = &rows[sn.row_start as usize..][..sn.row_len as usize];
-                    sn.ncols
-                        + off
-                            .binary_search(&r)
-                            .map_err(|_| Error::Factorization("unexpected factor structure".into()))?
-                            as u32
-                };
-                let offset = sn.value_start
-                    + (c - sn.start) as usize * (sn.ncols + sn.row_len) as usize
-                    + local_row as usize;
-                assembly.push((offset as u32) << 1 | u32::from(pi < pj));
-            }
-        }
-        Ok(Symbolic { pattern, cholesky, supernodes, rows, perm, max_rows, assembly, supernode_of })
+        Ok(Symbolic { pattern, cholesky, supernodes, rows, perm, max_rows, assembly: OnceLock::new() })
     }
 
     /// The pattern this was built for.

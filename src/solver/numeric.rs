@@ -5,7 +5,7 @@
 //! Why: in WebAssembly, faer 0.24's dense kernels for complex numbers are scalar (gemm
 //! 0.19 has wasm `simd128` kernels for real types only, nano-gemm none), and they took
 //! over half of `compile` at 30k vertices. Here the dense products run on `f64x2` lanes
-//! in wasm ([`product`]); natively faer's AVX kernels are faster, so faer stays in use
+//! in wasm ([`Product`]); natively faer's AVX kernels are faster, so faer stays in use
 //! there (and serves as the reference in the tests).
 //!
 //! The method is right-looking and blocked:
@@ -33,14 +33,75 @@ const BLOCK: usize = 16;
 /// of four rows never reads past its column.
 const PAD: usize = 4;
 
+/// Where the matrix's entries go in the factor, and which supernode each column is in.
+#[derive(Debug)]
+pub(super) struct Assembly {
+    /// For each entry of the pattern, its offset in the factor's values (`offset << 1`) and
+    /// whether it is conjugated on the way (bit 0: it lands in the lower triangle mirrored).
+    slots: Vec<u32>,
+    /// `supernode_of[k]`: the supernode of eliminated column `k`.
+    supernode_of: Vec<u32>,
+}
+
+impl Assembly {
+    /// `symbolic`'s assembly, made on first use.
+    fn of(symbolic: &Symbolic) -> Result<&Assembly> {
+        if let Some(a) = symbolic.assembly.get() {
+            return Ok(a);
+        }
+        let a = Assembly::new(symbolic)?;
+        Ok(symbolic.assembly.get_or_init(|| a))
+    }
+
+    fn new(symbolic: &Symbolic) -> Result<Assembly> {
+        let Symbolic { pattern, supernodes, rows, perm, .. } = symbolic;
+        let n = pattern.n;
+        let structure = || Error::Factorization("unexpected factor structure".into());
+        if symbolic.cholesky.len_val() >= 1 << 31 {
+            return Err(Error::Factorization("factor too large".into()));
+        }
+        let mut supernode_of = vec![0u32; n];
+        for (s, sn) in supernodes.iter().enumerate() {
+            supernode_of[sn.start as usize..(sn.start + sn.ncols) as usize].fill(s as u32);
+        }
+        let mut position = vec![0u32; n];
+        for (k, &p) in perm.iter().enumerate() {
+            position[p as usize] = k as u32;
+        }
+        let mut slots = Vec::with_capacity(pattern.row_idx.len());
+        for j in 0..n {
+            for (_, i) in pattern.column(j) {
+                // Entry (i, j), i ≤ j, of A is entry (pi, pj) of the permuted matrix; the
+                // factor keeps the lower triangle, so it goes to (max, min), conjugated
+                // when that mirrors it.
+                let (pi, pj) = (position[i], position[j]);
+                let (r, c) = (pi.max(pj), pi.min(pj));
+                let sn = &supernodes[supernode_of[c as usize] as usize];
+                let local_row = if r < sn.start + sn.ncols {
+                    r - sn.start
+                } else {
+                    let off = &rows[sn.row_start as usize..][..sn.row_len as usize];
+                    sn.ncols + off.binary_search(&r).map_err(|_| structure())? as u32
+                };
+                let offset = sn.value_start
+                    + (c - sn.start) as usize * (sn.ncols + sn.row_len) as usize
+                    + local_row as usize;
+                slots.push((offset as u32) << 1 | u32::from(pi < pj));
+            }
+        }
+        Ok(Assembly { slots, supernode_of })
+    }
+}
+
 /// Factorises the Hermitian matrix whose upper triangle has `values` in `symbolic`'s
 /// pattern order into faer's supernodal value layout. Fails if the matrix is not
 /// numerically positive definite.
 pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec<Complex64>> {
     // 1. The matrix into the blocks.
+    let assembly = Assembly::of(symbolic)?;
     let zero = Complex64::new(0.0, 0.0);
     let mut l = vec![zero; symbolic.cholesky.len_val()];
-    for (&v, &slot) in values.iter().zip(&symbolic.assembly) {
+    for (&v, &slot) in values.iter().zip(&assembly.slots) {
         let (offset, conjugate) = ((slot >> 1) as usize, slot & 1 == 1);
         l[offset] = if conjugate { v.conj() } else { v };
     }
@@ -62,7 +123,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
             let nb = BLOCK.min(c - j0);
             if j0 > 0 {
                 let m = ld - j0;
-                product(&packed, stride, j0, m, j0, nb, j0, &mut update);
+                Product { packed: &packed, stride, ra: j0, m, rb: j0, n: nb, depth: j0 }.run(&mut update);
                 for jj in 0..nb {
                     let column = &mut panel[(j0 + jj) * ld + j0..(j0 + jj + 1) * ld];
                     for (x, &u) in column.iter_mut().zip(&update[jj * m..(jj + 1) * m]).skip(jj) {
@@ -99,7 +160,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
         let rows = &symbolic.rows[sn.row_start as usize..][..p];
         let mut b0 = 0;
         while b0 < p {
-            let target = &symbolic.supernodes[symbolic.supernode_of[rows[b0] as usize] as usize];
+            let target = &symbolic.supernodes[assembly.supernode_of[rows[b0] as usize] as usize];
             let end = target.start + target.ncols;
             let b1 = b0 + rows[b0..].iter().take_while(|&&r| r < end).count();
             // Where rows[b0..] sit in the target's block.
@@ -122,7 +183,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
             let target_ld = (target.ncols + target.row_len) as usize;
             for c0 in (b0..b1).step_by(BLOCK) {
                 let n = BLOCK.min(b1 - c0);
-                product(&packed, stride, c + b0, m, c + c0, n, c, &mut update);
+                Product { packed: &packed, stride, ra: c + b0, m, rb: c + c0, n, depth: c }.run(&mut update);
                 for jj in 0..n {
                     let column = (rows[c0 + jj] - target.start) as usize;
                     let base = target.value_start + column * target_ld - (sn.value_start + ld * c);
@@ -140,7 +201,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
 
 /// Packs one finished panel column into `out`: its real parts, then its imaginary parts,
 /// each `out.len() / 2` long. The rows beyond the column keep whatever an earlier
-/// supernode left there: [`product`] reads them only into lanes it does not store.
+/// supernode left there: [`Product`] reads them only into lanes it does not store.
 fn pack_column(column: &[Complex64], out: &mut [f64]) {
     let (re, im) = out.split_at_mut(out.len() / 2);
     for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(column) {
@@ -149,132 +210,119 @@ fn pack_column(column: &[Complex64], out: &mut [f64]) {
     }
 }
 
-/// `out[i + j·m] = Σ_{k < depth} A[ra + i, k] · conj(A[rb + j, k])` for `i < m`, `j < n`,
-/// where column `k` of `A` is packed at `packed[2·stride·k..]` (real parts, then imaginary
-/// parts, each `stride` long).
-#[allow(clippy::too_many_arguments)]
-fn product(
-    packed: &[f64],
+/// One dense product of packed panel rows, `out[i + j·m] = Σ_{k < depth} A[ra + i, k] ·
+/// conj(A[rb + j, k])` for `i < m`, `j < n`, where column `k` of `A` is packed at
+/// `packed[2·stride·k..]` (real parts, then imaginary parts, each `stride` long).
+#[derive(Clone, Copy)]
+struct Product<'a> {
+    packed: &'a [f64],
     stride: usize,
     ra: usize,
     m: usize,
     rb: usize,
     n: usize,
     depth: usize,
-    out: &mut [Complex64],
-) {
-    #[cfg(target_arch = "wasm32")]
-    {
-        product_simd128(packed, stride, ra, m, rb, n, depth, out)
-    }
-    #[cfg(not(target_arch = "wasm32"))]
-    {
-        product_scalar(packed, stride, ra, m, rb, n, depth, out)
-    }
 }
 
-/// [`product`] one complex multiply-add at a time.
-#[allow(clippy::too_many_arguments, dead_code)]
-fn product_scalar(
-    packed: &[f64],
-    stride: usize,
-    ra: usize,
-    m: usize,
-    rb: usize,
-    n: usize,
-    depth: usize,
-    out: &mut [Complex64],
-) {
-    for j in 0..n {
-        let column = &mut out[j * m..(j + 1) * m];
-        column.fill(Complex64::new(0.0, 0.0));
-        for k in 0..depth {
-            let (re, im) = packed[2 * stride * k..2 * stride * (k + 1)].split_at(stride);
-            let b = Complex64::new(re[rb + j], -im[rb + j]);
-            for (i, x) in column.iter_mut().enumerate() {
-                *x += Complex64::new(re[ra + i], im[ra + i]) * b;
+impl Product<'_> {
+    /// Computes the product into `out` (`m × n`, column-major).
+    fn run(self, out: &mut [Complex64]) {
+        #[cfg(target_arch = "wasm32")]
+        {
+            self.simd128(out)
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            self.scalar(out)
+        }
+    }
+
+    /// [`Product::run`] one complex multiply-add at a time.
+    #[allow(dead_code)]
+    fn scalar(self, out: &mut [Complex64]) {
+        let Product { packed, stride, ra, m, rb, n, depth } = self;
+        for j in 0..n {
+            let column = &mut out[j * m..(j + 1) * m];
+            column.fill(Complex64::new(0.0, 0.0));
+            for k in 0..depth {
+                let (re, im) = packed[2 * stride * k..2 * stride * (k + 1)].split_at(stride);
+                let b = Complex64::new(re[rb + j], -im[rb + j]);
+                for (i, x) in column.iter_mut().enumerate() {
+                    *x += Complex64::new(re[ra + i], im[ra + i]) * b;
+                }
             }
         }
     }
-}
 
-/// [`product`] on `f64x2` lanes: tiles of 4 rows × 2 columns, with the real and the
-/// imaginary parts of two rows in one vector each, so a complex multiply-add of two rows
-/// by one column is four vector multiplies and four vector adds. Rows past `m` in a tile
-/// read the padding or rows below (each lane is computed on its own) and are not stored;
-/// an odd last column is computed twice and stored once.
-#[cfg(target_arch = "wasm32")]
-#[target_feature(enable = "simd128")]
-#[allow(clippy::too_many_arguments)]
-fn product_simd128(
-    packed: &[f64],
-    stride: usize,
-    ra: usize,
-    m: usize,
-    rb: usize,
-    n: usize,
-    depth: usize,
-    out: &mut [Complex64],
-) {
-    use core::arch::wasm32::*;
-    if m == 0 || n == 0 {
-        return;
-    }
-    // The loads below read 4 rows from `ra + i` with i < m rounded up to 4: within the
-    // packed column (stride ≥ rows + PAD).
-    assert!(ra + m.div_ceil(4) * 4 <= stride && rb + n <= stride && packed.len() >= 2 * stride * depth);
-    let base = packed.as_ptr();
-    for j in (0..n).step_by(2) {
-        let j1 = (j + 1).min(n - 1);
-        for i in (0..m).step_by(4) {
-            let (mut re00, mut re01, mut im00, mut im01) =
-                (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
-            let (mut re10, mut re11, mut im10, mut im11) =
-                (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
-            for k in 0..depth {
-                // SAFETY: the assert above bounds every offset by 2·stride·depth.
-                unsafe {
-                    let re = base.add(2 * stride * k);
-                    let im = re.add(stride);
-                    let ar0 = v128_load(re.add(ra + i) as *const v128);
-                    let ar1 = v128_load(re.add(ra + i + 2) as *const v128);
-                    let ai0 = v128_load(im.add(ra + i) as *const v128);
-                    let ai1 = v128_load(im.add(ra + i + 2) as *const v128);
-                    let (br0, bi0) = (
-                        v128_load64_splat(re.add(rb + j) as *const u64),
-                        v128_load64_splat(im.add(rb + j) as *const u64),
-                    );
-                    let (br1, bi1) = (
-                        v128_load64_splat(re.add(rb + j1) as *const u64),
-                        v128_load64_splat(im.add(rb + j1) as *const u64),
-                    );
-                    // a · conj(b) = (ar·br + ai·bi) + i (ai·br − ar·bi)
-                    re00 = f64x2_add(re00, f64x2_add(f64x2_mul(ar0, br0), f64x2_mul(ai0, bi0)));
-                    re01 = f64x2_add(re01, f64x2_add(f64x2_mul(ar1, br0), f64x2_mul(ai1, bi0)));
-                    im00 = f64x2_add(im00, f64x2_sub(f64x2_mul(ai0, br0), f64x2_mul(ar0, bi0)));
-                    im01 = f64x2_add(im01, f64x2_sub(f64x2_mul(ai1, br0), f64x2_mul(ar1, bi0)));
-                    re10 = f64x2_add(re10, f64x2_add(f64x2_mul(ar0, br1), f64x2_mul(ai0, bi1)));
-                    re11 = f64x2_add(re11, f64x2_add(f64x2_mul(ar1, br1), f64x2_mul(ai1, bi1)));
-                    im10 = f64x2_add(im10, f64x2_sub(f64x2_mul(ai0, br1), f64x2_mul(ar0, bi1)));
-                    im11 = f64x2_add(im11, f64x2_sub(f64x2_mul(ai1, br1), f64x2_mul(ar1, bi1)));
+    /// [`Product::run`] on `f64x2` lanes: tiles of 4 rows × 2 columns, with the real and
+    /// the imaginary parts of two rows in one vector each, so a complex multiply-add of two
+    /// rows by one column is four vector multiplies and four vector adds. Rows past `m` in
+    /// a tile read the padding or rows below (each lane is computed on its own) and are not
+    /// stored; an odd last column is computed twice and stored once.
+    #[cfg(target_arch = "wasm32")]
+    #[target_feature(enable = "simd128")]
+    fn simd128(self, out: &mut [Complex64]) {
+        let Product { packed, stride, ra, m, rb, n, depth } = self;
+        use core::arch::wasm32::*;
+        if m == 0 || n == 0 {
+            return;
+        }
+        // The loads below read 4 rows from `ra + i` with i < m rounded up to 4: within the
+        // packed column (stride ≥ rows + PAD).
+        assert!(ra + m.div_ceil(4) * 4 <= stride && rb + n <= stride && packed.len() >= 2 * stride * depth);
+        let base = packed.as_ptr();
+        for j in (0..n).step_by(2) {
+            let j1 = (j + 1).min(n - 1);
+            for i in (0..m).step_by(4) {
+                let (mut re00, mut re01, mut im00, mut im01) =
+                    (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
+                let (mut re10, mut re11, mut im10, mut im11) =
+                    (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
+                for k in 0..depth {
+                    // SAFETY: the assert above bounds every offset by 2·stride·depth.
+                    unsafe {
+                        let re = base.add(2 * stride * k);
+                        let im = re.add(stride);
+                        let ar0 = v128_load(re.add(ra + i) as *const v128);
+                        let ar1 = v128_load(re.add(ra + i + 2) as *const v128);
+                        let ai0 = v128_load(im.add(ra + i) as *const v128);
+                        let ai1 = v128_load(im.add(ra + i + 2) as *const v128);
+                        let (br0, bi0) = (
+                            v128_load64_splat(re.add(rb + j) as *const u64),
+                            v128_load64_splat(im.add(rb + j) as *const u64),
+                        );
+                        let (br1, bi1) = (
+                            v128_load64_splat(re.add(rb + j1) as *const u64),
+                            v128_load64_splat(im.add(rb + j1) as *const u64),
+                        );
+                        // a · conj(b) = (ar·br + ai·bi) + i (ai·br − ar·bi)
+                        re00 = f64x2_add(re00, f64x2_add(f64x2_mul(ar0, br0), f64x2_mul(ai0, bi0)));
+                        re01 = f64x2_add(re01, f64x2_add(f64x2_mul(ar1, br0), f64x2_mul(ai1, bi0)));
+                        im00 = f64x2_add(im00, f64x2_sub(f64x2_mul(ai0, br0), f64x2_mul(ar0, bi0)));
+                        im01 = f64x2_add(im01, f64x2_sub(f64x2_mul(ai1, br0), f64x2_mul(ar1, bi0)));
+                        re10 = f64x2_add(re10, f64x2_add(f64x2_mul(ar0, br1), f64x2_mul(ai0, bi1)));
+                        re11 = f64x2_add(re11, f64x2_add(f64x2_mul(ar1, br1), f64x2_mul(ai1, bi1)));
+                        im10 = f64x2_add(im10, f64x2_sub(f64x2_mul(ai0, br1), f64x2_mul(ar0, bi1)));
+                        im11 = f64x2_add(im11, f64x2_sub(f64x2_mul(ai1, br1), f64x2_mul(ar1, bi1)));
+                    }
                 }
-            }
-            let columns = [(j, [re00, re01], [im00, im01]), (j1, [re10, re11], [im10, im11])];
-            for (q, &(col, re, im)) in columns.iter().enumerate() {
-                if q == 1 && j1 == j {
-                    break;
-                }
-                let lanes = |v: [v128; 2]| {
-                    [
-                        f64x2_extract_lane::<0>(v[0]),
-                        f64x2_extract_lane::<1>(v[0]),
-                        f64x2_extract_lane::<0>(v[1]),
-                        f64x2_extract_lane::<1>(v[1]),
-                    ]
-                };
-                let (re, im) = (lanes(re), lanes(im));
-                for r in 0..4.min(m - i) {
-                    out[col * m + i + r] = Complex64::new(re[r], im[r]);
+                let columns = [(j, [re00, re01], [im00, im01]), (j1, [re10, re11], [im10, im11])];
+                for (q, &(col, re, im)) in columns.iter().enumerate() {
+                    if q == 1 && j1 == j {
+                        break;
+                    }
+                    let lanes = |v: [v128; 2]| {
+                        [
+                            f64x2_extract_lane::<0>(v[0]),
+                            f64x2_extract_lane::<1>(v[0]),
+                            f64x2_extract_lane::<0>(v[1]),
+                            f64x2_extract_lane::<1>(v[1]),
+                        ]
+                    };
+                    let (re, im) = (lanes(re), lanes(im));
+                    for r in 0..4.min(m - i) {
+                        out[col * m + i + r] = Complex64::new(re[r], im[r]);
+                    }
                 }
             }
         }
