@@ -32,6 +32,11 @@ step() {
   printf '==> %s: done in %s s\n' "$name" "$(( $(now) - t0 ))"
 }
 
+# The Node runners: every test has a deadline (a test may ask for more) and the runner
+# exits when the tests are done even if a child process lingers; the whole step is killed
+# after 20 minutes. A hang fails with a message instead of stalling CI.
+node_test() { timeout -k 10 1200 node --test --test-timeout=300000 --test-force-exit "$@"; }
+
 step "setup" bash scripts/setup.sh
 step "cargo test (native)" cargo test
 # --lib --test '*': the library's and the integration tests' test binaries (the
@@ -48,10 +53,10 @@ fi
 if [ ${#node_tests[@]} -eq 0 ]; then
   printf '\n==> node --test: skipped (no test files in tests/node/)\n'
 else
-  step "node --test tests/node/" node --test "${node_tests[@]}"
+  step "node --test tests/node/" node_test "${node_tests[@]}"
 fi
-step "node --test tests/browser/" node --test tests/browser/
-step "node --test tests/examples/" node --test tests/examples/
+step "node --test tests/browser/" node_test tests/browser/
+step "node --test tests/examples/" node_test tests/examples/
 
 # Totals over cargo's "test result: ok. N passed; M failed; K ignored" lines
 # (native and wasm) and node's "# pass N" / "# fail N" lines.

@@ -18,7 +18,11 @@ const root = fileURLToPath(new URL("../../", import.meta.url));
 let work;
 let tarball;
 
-const run = (cmd, args, cwd) => execFileSync(cmd, args, { cwd, encoding: "utf8", stdio: ["ignore", "pipe", "pipe"] });
+// Every child process and wait has a deadline, so a hang fails the test with a message
+// instead of stalling the suite.
+const MINUTE = 60_000;
+const run = (cmd, args, cwd, timeout = 5 * MINUTE) =>
+  execFileSync(cmd, args, { cwd, encoding: "utf8", stdio: ["ignore", "pipe", "pipe"], timeout, killSignal: "SIGKILL" });
 
 /** Copies `examples/<name>` into the work folder with `bunraku` taken from the tarball. */
 function install(name, extra = []) {
@@ -65,7 +69,7 @@ before(() => {
 
 after(() => rmSync(work, { recursive: true, force: true }));
 
-test("examples/node runs against the installed package", () => {
+test("examples/node runs against the installed package", { timeout: 10 * MINUTE }, () => {
   const dir = install("node", [["assets", "assets"]]);
   const out = run("node", ["drag.mjs", "30"], dir);
   assert.match(out, /compile: 4 pins/);
@@ -81,7 +85,29 @@ test("examples/node runs against the installed package", () => {
   assert.ok(opaque > 0.1 * png.width * png.height, `${opaque} opaque pixels of ${png.width} × ${png.height}`);
 });
 
-test("examples/vite type-checks, builds and runs in Chromium", async () => {
+/**
+ * Resolves once `url` answers over HTTP; rejects when `child` exits first or after `ms`.
+ * (Polling, not reading the server's banner: Vite colours it when `CI` is set, and its
+ * wording is not an interface.)
+ */
+async function answering(url, child, ms = 30_000) {
+  let exited = null;
+  child.once("exit", (code, signal) => (exited = `exited with ${code ?? signal}`));
+  const deadline = Date.now() + ms;
+  for (;;) {
+    if (exited) throw new Error(`vite preview ${exited}`);
+    try {
+      const res = await fetch(url, { signal: AbortSignal.timeout(2_000) });
+      if (res.ok) return;
+    } catch {
+      // not listening yet
+    }
+    if (Date.now() > deadline) throw new Error(`vite preview did not answer at ${url} within ${ms} ms`);
+    await new Promise((r) => setTimeout(r, 200));
+  }
+}
+
+test("examples/vite type-checks, builds and runs in Chromium", { timeout: 10 * MINUTE }, async () => {
   const dir = install("vite");
   run("npm", ["run", "build"], dir);
   assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
@@ -89,14 +115,12 @@ test("examples/vite type-checks, builds and runs in Chromium", async () => {
   const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
   const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
     cwd: dir,
-    stdio: ["ignore", "pipe", "inherit"],
+    stdio: ["ignore", "ignore", "inherit"],
   });
-  await new Promise((resolve, reject) => {
-    server.stdout.on("data", (d) => /Local:/.test(String(d)) && resolve());
-    server.once("exit", (code) => reject(new Error(`vite preview exited with ${code}`)));
-  });
-  const browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+  let browser;
   try {
+    await answering(`http://127.0.0.1:${port}/`, server);
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
     const page = await browser.newPage();
     const problems = [];
     page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
@@ -125,7 +149,7 @@ test("examples/vite type-checks, builds and runs in Chromium", async () => {
     assert.ok(!yellow(x - 8, y + 20), "the tip left its rest place");
     assert.deepEqual(problems, []);
   } finally {
-    await browser.close();
+    await browser?.close();
     server.kill();
   }
 });
