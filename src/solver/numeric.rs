@@ -18,8 +18,11 @@
 //! 3. Subtract the panel's Schur complement `L₂₁ L₂₁ᴴ` from the blocks of the supernodes
 //!    its off-diagonal rows belong to, [`BLOCK`] columns at a time.
 //!
-//! Each finished panel column is packed once into split real / imaginary arrays, so that
-//! the products load two rows' real parts (or imaginary parts) as one `f64x2`.
+//! Each finished panel column is packed once into groups of four rows ([`Packed`]): for
+//! every group and column, the four rows' real parts then their imaginary parts, the
+//! columns of a group one after another. The products then read a tile's rows for
+//! column after column from consecutive memory, and load two rows' real parts (or
+//! imaginary parts) as one `f64x2`.
 
 use num_complex::Complex64;
 
@@ -29,9 +32,8 @@ use crate::error::{Error, Result};
 /// Columns per block of the panel factorisation and of the Schur-complement update.
 const BLOCK: usize = 16;
 
-/// Rows are processed four at a time; packed columns carry this much padding, so a tile
-/// of four rows never reads past its column.
-const PAD: usize = 4;
+/// Rows per group of the packed panel, and per tile of the products.
+const GROUP: usize = 4;
 
 /// Where the matrix's entries go in the factor, and which supernode each column is in.
 #[derive(Debug)]
@@ -108,13 +110,13 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
     let widest = symbolic.supernodes.iter().map(|s| (s.ncols + s.row_len) as usize).max().unwrap_or(0);
     let widest_cols = symbolic.supernodes.iter().map(|s| s.ncols as usize).max().unwrap_or(0);
     let mut update = vec![zero; widest * BLOCK];
-    let mut packed = vec![0.0; 2 * (widest + PAD) * widest_cols];
+    let mut packed_values = vec![0.0; 2 * GROUP * widest.div_ceil(GROUP) * widest_cols];
     let mut relative = vec![0u32; symbolic.max_rows];
 
     for sn in &symbolic.supernodes {
         let (c, p) = (sn.ncols as usize, sn.row_len as usize);
         let ld = c + p;
-        let stride = ld + PAD;
+        let mut packed = Packed { values: &mut packed_values, columns: c };
         let (head, tail) = l.split_at_mut(sn.value_start + ld * c);
         let panel = &mut head[sn.value_start..];
 
@@ -123,7 +125,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
             let nb = BLOCK.min(c - j0);
             if j0 > 0 {
                 let m = ld - j0;
-                Product { packed: &packed, stride, ra: j0, m, rb: j0, n: nb, depth: j0 }.run(&mut update);
+                Product { packed: packed.view(), ra: j0, m, rb: j0, n: nb, depth: j0 }.run(&mut update);
                 for jj in 0..nb {
                     let column = &mut panel[(j0 + jj) * ld + j0..(j0 + jj + 1) * ld];
                     for (x, &u) in column.iter_mut().zip(&update[jj * m..(jj + 1) * m]).skip(jj) {
@@ -152,7 +154,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
                 for x in &mut panel[j * ld + j + 1..(j + 1) * ld] {
                     *x *= inverse;
                 }
-                pack_column(&panel[j * ld..(j + 1) * ld], &mut packed[2 * stride * j..2 * stride * (j + 1)]);
+                packed.set_column(j, &panel[j * ld..(j + 1) * ld]);
             }
         }
 
@@ -183,7 +185,7 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
             let target_ld = (target.ncols + target.row_len) as usize;
             for c0 in (b0..b1).step_by(BLOCK) {
                 let n = BLOCK.min(b1 - c0);
-                Product { packed: &packed, stride, ra: c + b0, m, rb: c + c0, n, depth: c }.run(&mut update);
+                Product { packed: packed.view(), ra: c + b0, m, rb: c + c0, n, depth: c }.run(&mut update);
                 for jj in 0..n {
                     let column = (rows[c0 + jj] - target.start) as usize;
                     let base = target.value_start + column * target_ld - (sn.value_start + ld * c);
@@ -199,24 +201,62 @@ pub(super) fn factorize(symbolic: &Symbolic, values: &[Complex64]) -> Result<Vec
     Ok(l)
 }
 
-/// Packs one finished panel column into `out`: its real parts, then its imaginary parts,
-/// each `out.len() / 2` long. The rows beyond the column keep whatever an earlier
-/// supernode left there: [`Product`] reads them only into lanes it does not store.
-fn pack_column(column: &[Complex64], out: &mut [f64]) {
-    let (re, im) = out.split_at_mut(out.len() / 2);
-    for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(column) {
-        *r = z.re;
-        *i = z.im;
+/// A supernode's finished panel columns in groups of [`GROUP`] rows: entry `(r, k)` has
+/// its real part at `values[8·(g·columns + k) + r % 4]` and its imaginary part 4 further,
+/// for the group `g = r / 4`. Rows past the panel's last in its last group hold whatever
+/// an earlier supernode left there: [`Product`] reads them only into lanes it does not
+/// store.
+struct Packed<'a> {
+    values: &'a mut [f64],
+    /// The panel's columns (the supernode's `c`): the group's stride in columns.
+    columns: usize,
+}
+
+impl Packed<'_> {
+    /// Packs finished column `k` (all its `c + p` rows).
+    fn set_column(&mut self, k: usize, column: &[Complex64]) {
+        for (g, rows) in column.chunks(GROUP).enumerate() {
+            let at = 2 * GROUP * (g * self.columns + k);
+            let (re, im) = self.values[at..at + 2 * GROUP].split_at_mut(GROUP);
+            for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(rows) {
+                *r = z.re;
+                *i = z.im;
+            }
+        }
+    }
+
+    fn view(&self) -> PackedRef<'_> {
+        PackedRef { values: self.values, columns: self.columns }
+    }
+}
+
+/// A shared view of [`Packed`].
+#[derive(Clone, Copy)]
+struct PackedRef<'a> {
+    values: &'a [f64],
+    columns: usize,
+}
+
+impl PackedRef<'_> {
+    /// Where group `g`'s column `k` starts: four real parts, then four imaginary parts.
+    #[inline(always)]
+    fn at(self, g: usize, k: usize) -> usize {
+        2 * GROUP * (g * self.columns + k)
+    }
+
+    /// Entry `(r, k)`.
+    #[allow(dead_code)]
+    fn get(self, r: usize, k: usize) -> Complex64 {
+        let at = self.at(r / GROUP, k) + r % GROUP;
+        Complex64::new(self.values[at], self.values[at + GROUP])
     }
 }
 
 /// One dense product of packed panel rows, `out[i + j·m] = Σ_{k < depth} A[ra + i, k] ·
-/// conj(A[rb + j, k])` for `i < m`, `j < n`, where column `k` of `A` is packed at
-/// `packed[2·stride·k..]` (real parts, then imaginary parts, each `stride` long).
+/// conj(A[rb + j, k])` for `i < m`, `j < n`, where `A` is the panel in `packed`.
 #[derive(Clone, Copy)]
 struct Product<'a> {
-    packed: &'a [f64],
-    stride: usize,
+    packed: PackedRef<'a>,
     ra: usize,
     m: usize,
     rb: usize,
@@ -240,60 +280,66 @@ impl Product<'_> {
     /// [`Product::run`] one complex multiply-add at a time.
     #[allow(dead_code)]
     fn scalar(self, out: &mut [Complex64]) {
-        let Product { packed, stride, ra, m, rb, n, depth } = self;
+        let Product { packed, ra, m, rb, n, depth } = self;
         for j in 0..n {
             let column = &mut out[j * m..(j + 1) * m];
             column.fill(Complex64::new(0.0, 0.0));
             for k in 0..depth {
-                let (re, im) = packed[2 * stride * k..2 * stride * (k + 1)].split_at(stride);
-                let b = Complex64::new(re[rb + j], -im[rb + j]);
+                let b = packed.get(rb + j, k).conj();
                 for (i, x) in column.iter_mut().enumerate() {
-                    *x += Complex64::new(re[ra + i], im[ra + i]) * b;
+                    *x += packed.get(ra + i, k) * b;
                 }
             }
         }
     }
 
-    /// [`Product::run`] on `f64x2` lanes: tiles of 4 rows × 2 columns, with the real and
-    /// the imaginary parts of two rows in one vector each, so a complex multiply-add of two
-    /// rows by one column is four vector multiplies and four vector adds. Rows past `m` in
-    /// a tile read the padding or rows below (each lane is computed on its own) and are not
-    /// stored; an odd last column is computed twice and stored once.
+    /// [`Product::run`] on `f64x2` lanes, in tiles of one group of 4 rows × 2 columns: the
+    /// real and the imaginary parts of two rows in one vector each, so a complex
+    /// multiply-add of two rows by one column is four vector multiplies and four vector
+    /// adds, and a tile reads 64 consecutive bytes per column `k`. A tile's rows outside
+    /// `ra..ra + m` are computed (each lane on its own) but not stored; an odd last column
+    /// is computed twice and stored once.
     #[cfg(target_arch = "wasm32")]
     #[target_feature(enable = "simd128")]
     fn simd128(self, out: &mut [Complex64]) {
-        let Product { packed, stride, ra, m, rb, n, depth } = self;
+        let Product { packed, ra, m, rb, n, depth } = self;
         use core::arch::wasm32::*;
         if m == 0 || n == 0 {
             return;
         }
-        // The loads below read 4 rows from `ra + i` with i < m rounded up to 4: within the
-        // packed column (stride ≥ rows + PAD).
-        assert!(ra + m.div_ceil(4) * 4 <= stride && rb + n <= stride && packed.len() >= 2 * stride * depth);
-        let base = packed.as_ptr();
-        for j in (0..n).step_by(2) {
-            let j1 = (j + 1).min(n - 1);
-            for i in (0..m).step_by(4) {
+        // Every load below is within the groups of rows ra..ra + m and rb..rb + n, at
+        // columns below depth.
+        let end = (ra + m).max(rb + n).div_ceil(GROUP);
+        assert!(depth <= packed.columns && packed.at(end, 0) <= packed.values.len());
+        let base = packed.values.as_ptr();
+        for g in ra / GROUP..(ra + m).div_ceil(GROUP) {
+            let first = (g * GROUP).max(ra);
+            let last = ((g + 1) * GROUP).min(ra + m);
+            for j in (0..n).step_by(2) {
+                let j1 = (j + 1).min(n - 1);
+                let (b0, b1) = (rb + j, rb + j1);
                 let (mut re00, mut re01, mut im00, mut im01) =
                     (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
                 let (mut re10, mut re11, mut im10, mut im11) =
                     (f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0), f64x2_splat(0.0));
-                for k in 0..depth {
-                    // SAFETY: the assert above bounds every offset by 2·stride·depth.
-                    unsafe {
-                        let re = base.add(2 * stride * k);
-                        let im = re.add(stride);
-                        let ar0 = v128_load(re.add(ra + i) as *const v128);
-                        let ar1 = v128_load(re.add(ra + i + 2) as *const v128);
-                        let ai0 = v128_load(im.add(ra + i) as *const v128);
-                        let ai1 = v128_load(im.add(ra + i + 2) as *const v128);
+                // SAFETY: the loads read groups below `end` at columns below `depth`,
+                // within packed.values (the assert above).
+                unsafe {
+                    let mut a = base.add(packed.at(g, 0));
+                    let mut p0 = base.add(packed.at(b0 / GROUP, 0) + b0 % GROUP);
+                    let mut p1 = base.add(packed.at(b1 / GROUP, 0) + b1 % GROUP);
+                    for _ in 0..depth {
+                        let ar0 = v128_load(a as *const v128);
+                        let ar1 = v128_load(a.add(2) as *const v128);
+                        let ai0 = v128_load(a.add(GROUP) as *const v128);
+                        let ai1 = v128_load(a.add(GROUP + 2) as *const v128);
                         let (br0, bi0) = (
-                            v128_load64_splat(re.add(rb + j) as *const u64),
-                            v128_load64_splat(im.add(rb + j) as *const u64),
+                            v128_load64_splat(p0 as *const u64),
+                            v128_load64_splat(p0.add(GROUP) as *const u64),
                         );
                         let (br1, bi1) = (
-                            v128_load64_splat(re.add(rb + j1) as *const u64),
-                            v128_load64_splat(im.add(rb + j1) as *const u64),
+                            v128_load64_splat(p1 as *const u64),
+                            v128_load64_splat(p1.add(GROUP) as *const u64),
                         );
                         // a · conj(b) = (ar·br + ai·bi) + i (ai·br − ar·bi)
                         re00 = f64x2_add(re00, f64x2_add(f64x2_mul(ar0, br0), f64x2_mul(ai0, bi0)));
@@ -304,6 +350,9 @@ impl Product<'_> {
                         re11 = f64x2_add(re11, f64x2_add(f64x2_mul(ar1, br1), f64x2_mul(ai1, bi1)));
                         im10 = f64x2_add(im10, f64x2_sub(f64x2_mul(ai0, br1), f64x2_mul(ar0, bi1)));
                         im11 = f64x2_add(im11, f64x2_sub(f64x2_mul(ai1, br1), f64x2_mul(ar1, bi1)));
+                        a = a.add(2 * GROUP);
+                        p0 = p0.add(2 * GROUP);
+                        p1 = p1.add(2 * GROUP);
                     }
                 }
                 let columns = [(j, [re00, re01], [im00, im01]), (j1, [re10, re11], [im10, im11])];
@@ -320,8 +369,9 @@ impl Product<'_> {
                         ]
                     };
                     let (re, im) = (lanes(re), lanes(im));
-                    for r in 0..4.min(m - i) {
-                        out[col * m + i + r] = Complex64::new(re[r], im[r]);
+                    for r in first..last {
+                        let lane = r - g * GROUP;
+                        out[col * m + r - ra] = Complex64::new(re[lane], im[lane]);
                     }
                 }
             }
