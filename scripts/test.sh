@@ -33,9 +33,15 @@ step() {
 }
 
 # The Node runners: every test has a deadline (a test may ask for more) and the runner
-# exits when the tests are done even if a child process lingers; the whole step is killed
-# after 20 minutes. A hang fails with a message instead of stalling CI.
-node_test() { timeout -k 10 1200 node --test --test-timeout=300000 --test-force-exit "$@"; }
+# exits when the tests are done even if a child process lingers (flags of Node ≥ 20.11 and
+# ≥ 20.14, passed when this Node has them); the whole step is killed after 20 minutes. A
+# hang fails with a message instead of stalling CI.
+node_flags=()
+node_help="$(node --help)"
+for flag in --test-timeout=300000 --test-force-exit; do
+  case "$node_help" in *"${flag%%=*}"*) node_flags+=("$flag") ;; esac
+done
+node_test() { timeout -k 10 1200 node --test "${node_flags[@]}" "$@"; }
 
 step "setup" bash scripts/setup.sh
 step "cargo test (native)" cargo test
