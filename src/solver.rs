@@ -6,9 +6,9 @@
 //! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]);
 //! an update only back-substitutes, in buffers allocated at compilation.
 //!
-//! faer orders and factorises (supernodal); in wasm the complex step-1 matrix is factorised
-//! by [`numeric`] instead, on faer's symbolic structure, because faer's complex dense
-//! kernels have no wasm SIMD path there. The back-substitutions are written here, on
+//! faer orders and factorises (supernodal); in wasm both matrices are factorised by
+//! [`numeric`] instead, on faer's symbolic structure, because faer's dense kernels have no
+//! wasm SIMD path there (none at all for complex numbers). The back-substitutions are written here, on
 //! faer's supernodal factor: they are memory-bound, and these stream each dense supernode
 //! block once per pass, scatter or gather its off-diagonal rows once, solve step 2's x and
 //! y together, and permute only once each way. (faer's own supernodal solve calls its
@@ -91,7 +91,7 @@ pub struct Symbolic {
     /// The longest off-diagonal pattern.
     max_rows: usize,
     /// What the own numeric factorisation ([`numeric`]) needs beyond this, made at its
-    /// first use: only the complex factorisation in wasm uses it.
+    /// first use: only the factorisations in wasm use it.
     assembly: OnceLock<numeric::Assembly>,
 }
 
@@ -326,31 +326,12 @@ impl Rhs<Complex64> for Quad {
     }
 }
 
-/// Factor entries: the diagonal of a Cholesky factor is real and positive.
-pub trait Entry: ComplexField + Copy {
-    /// The real part (the whole value on the diagonal).
-    fn re(self) -> f64;
-
-    /// The factor's values in faer's supernodal layout: by faer, unless a faster way is
-    /// known for the type and the target.
-    fn factorize(symbolic: &Symbolic, values: &[Self]) -> Result<Vec<Self>> {
-        Ok(Factor::new_faer(symbolic, values)?.values)
-    }
-}
-
-impl Entry for f64 {
-    fn re(self) -> f64 {
-        self
-    }
-}
-
-impl Entry for Complex64 {
-    fn re(self) -> f64 {
-        self.re
-    }
-
-    /// In wasm, the project's own factorisation with `f64x2` kernels ([`numeric`]): faer's
-    /// complex dense kernels are scalar there.
+/// Factor entries: real (step 2) or complex (step 1). The diagonal of a Cholesky factor is
+/// real and positive.
+pub trait Entry: ComplexField + numeric::Value {
+    /// The factor's values in faer's supernodal layout: by faer natively, by the project's
+    /// own factorisation with `f64x2` kernels ([`numeric`]) in wasm, where faer's dense
+    /// kernels are scalar.
     fn factorize(symbolic: &Symbolic, values: &[Self]) -> Result<Vec<Self>> {
         if cfg!(target_arch = "wasm32") {
             numeric::factorize(symbolic, values)
@@ -359,6 +340,10 @@ impl Entry for Complex64 {
         }
     }
 }
+
+impl Entry for f64 {}
+
+impl Entry for Complex64 {}
 
 impl<T: Entry> Factor<T> {
     /// Factorises the matrix whose upper triangle has `values` in `symbolic`'s pattern order.
@@ -407,7 +392,7 @@ impl<T: Entry> Factor<T> {
             let (head, tail) = x.split_at_mut(c0 + c);
             let xs = &mut head[c0..];
             for (jj, column) in block.chunks_exact(c + p).enumerate() {
-                let xj = xs[jj] / column[jj].re();
+                let xj = xs[jj] / numeric::Value::re(column[jj]);
                 xs[jj] = xj;
                 for (xi, &v) in xs[jj + 1..].iter_mut().zip(&column[jj + 1..c]) {
                     *xi -= xj.times(v);
@@ -462,7 +447,7 @@ impl<T: Entry> Factor<T> {
                 for (&xi, &v) in xs[jj + 1..].iter().zip(&column[jj + 1..c]) {
                     s -= xi.times_conj(v);
                 }
-                xs[jj] = s / column[jj].re();
+                xs[jj] = s / numeric::Value::re(column[jj]);
             }
         }
         for (xk, &p) in x.iter().zip(&symbolic.perm) {
