@@ -8,10 +8,10 @@
 //!
 //! faer orders and factorises (supernodal); in wasm both matrices are factorised by
 //! [`numeric`] instead, on faer's symbolic structure, because faer's dense kernels have no
-//! wasm SIMD path there (none at all for complex numbers). The back-substitutions are written here, on
-//! faer's supernodal factor: they are memory-bound, and these stream each dense supernode
-//! block once per pass, scatter or gather its off-diagonal rows once, solve step 2's x and
-//! y together, and permute only once each way. (faer's own supernodal solve calls its
+//! wasm SIMD path there (none at all for complex numbers). The back-substitutions are
+//! written here, on faer's supernodal factor: they are memory-bound, and these stream each
+//! dense supernode block once per pass, scatter or gather its off-diagonal rows once, solve
+//! step 2's x and y together, and permute only once each way. (faer's own supernodal solve calls its
 //! general dense kernels per block, which cost more than they save on the small blocks of
 //! these meshes, most of all in wasm; its simplicial factorisation was slower to compute.)
 
