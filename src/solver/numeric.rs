@@ -388,12 +388,17 @@ impl<T: Value> Product<'_, T> {
         }
     }
 
-    /// Checks that every load of a SIMD kernel is in bounds: groups below
-    /// `(max(ra + m, rb + n)) / 4`, columns below `depth`.
+    /// The groups of rows a SIMD kernel tiles, as `(g, first, last)`: group `g` holds rows
+    /// `4g..4g + 4`, of which `first..last` are in `ra..ra + m` and stored. None when the
+    /// product is empty. Checks first that every load is in bounds: groups below
+    /// `max(ra + m, rb + n) / 4`, columns below `depth`.
     #[cfg(target_arch = "wasm32")]
-    fn check(&self) {
-        let end = (self.ra + self.m).max(self.rb + self.n).div_ceil(GROUP);
+    fn row_groups(&self) -> impl Iterator<Item = (usize, usize, usize)> {
+        let (ra, m) = (self.ra, self.m);
+        let end = (ra + m).max(self.rb + self.n).div_ceil(GROUP);
         assert!(self.depth <= self.packed.columns && self.packed.at(end, 0) <= self.packed.values.len());
+        let groups = if m == 0 || self.n == 0 { 0..0 } else { ra / GROUP..(ra + m).div_ceil(GROUP) };
+        groups.map(move |g| (g, (g * GROUP).max(ra), ((g + 1) * GROUP).min(ra + m)))
     }
 }
 
@@ -408,14 +413,8 @@ impl<T: Value> Product<'_, T> {
 fn complex_simd128(product: Product<'_, Complex64>, out: &mut [Complex64]) {
     use core::arch::wasm32::*;
     let Product { packed, ra, m, rb, n, depth } = product;
-    if m == 0 || n == 0 {
-        return;
-    }
-    product.check();
     let base = packed.values.as_ptr();
-    for g in ra / GROUP..(ra + m).div_ceil(GROUP) {
-        let first = (g * GROUP).max(ra);
-        let last = ((g + 1) * GROUP).min(ra + m);
+    for (g, first, last) in product.row_groups() {
         for j in (0..n).step_by(2) {
             let j1 = (j + 1).min(n - 1);
             let (b0, b1) = (rb + j, rb + j1);
@@ -475,14 +474,8 @@ fn complex_simd128(product: Product<'_, Complex64>, out: &mut [Complex64]) {
 fn real_simd128(product: Product<'_, f64>, out: &mut [f64]) {
     use core::arch::wasm32::*;
     let Product { packed, ra, m, rb, n, depth } = product;
-    if m == 0 || n == 0 {
-        return;
-    }
-    product.check();
     let base = packed.values.as_ptr();
-    for g in ra / GROUP..(ra + m).div_ceil(GROUP) {
-        let first = (g * GROUP).max(ra);
-        let last = ((g + 1) * GROUP).min(ra + m);
+    for (g, first, last) in product.row_groups() {
         for j in (0..n).step_by(4) {
             let cols = [j, (j + 1).min(n - 1), (j + 2).min(n - 1), (j + 3).min(n - 1)];
             let mut acc = [[f64x2_splat(0.0); 2]; 4];
