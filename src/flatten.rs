@@ -28,7 +28,7 @@
 
 use crate::arap::{check_options, edge_stencils, Core, EdgeWeights};
 use crate::error::{Error, Result};
-use crate::mesh::{build_edges, check_duplicates, components, triples_from_flat, Edge};
+use crate::mesh::{bounds, build_edges, check_duplicates, components, triples_from_flat, Edge};
 use crate::quality::{quality_3d, Quality};
 
 /// Relative threshold below which a 3D triangle counts as degenerate (as for 2D meshes).
@@ -335,14 +335,7 @@ fn nested_dissection(points: &[[f64; 3]], edges: &[Edge]) -> Vec<usize> {
             s.order.extend(set.iter().map(|&v| v as usize));
             return;
         }
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for &v in &set {
-            let p = s.points[v as usize];
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = bounds(set.iter().map(|&v| s.points[v as usize]));
         let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b]))).unwrap_or(0);
         let half = set.len() / 2;
         let points = s.points;
@@ -414,13 +407,7 @@ fn check_pins(surface: &Surface, pins: &[Pin]) -> Result<()> {
 }
 
 fn bbox_diagonal3(points: &[[f64; 3]]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = bounds(points.iter().copied());
     if points.is_empty() {
         return 0.0;
     }

@@ -1,7 +1,7 @@
 //! Point location: which triangle of a [`Mesh`] holds a point, and its barycentric
 //! coordinates there (Igarashi & Igarashi 2009, section 5).
 
-use crate::mesh::{cross, dot, sub, Mesh};
+use crate::mesh::{bounds, cross, dot, sub, Mesh};
 
 /// A point inside a triangle: the triangle and the point's barycentric weights, which are
 /// non-negative and sum to one.
@@ -39,13 +39,7 @@ impl Locator {
     /// grid holds at most [`MAX_CELL_ENTRIES_PER_TRIANGLE`] entries per triangle on average.
     pub fn new(mesh: &Mesh) -> Locator {
         let tolerance = BOUNDARY_TOLERANCE * mesh.diameter();
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in mesh.vertices() {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = bounds(mesh.vertices().iter().copied());
         let origin = [lo[0] - tolerance, lo[1] - tolerance];
         let (w, h) = (hi[0] - lo[0] + 2.0 * tolerance, hi[1] - lo[1] + 2.0 * tolerance);
         let t = mesh.triangles().len();

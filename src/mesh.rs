@@ -251,14 +251,21 @@ pub(crate) fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
     (component, count as usize)
 }
 
-pub(crate) fn bbox_diagonal(points: &[[f64; 2]]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+/// The bounding box `(lo, hi)` of `points`, in any dimension; `([∞; D], [−∞; D])` when
+/// there are none.
+pub(crate) fn bounds<const D: usize>(points: impl IntoIterator<Item = [f64; D]>) -> ([f64; D], [f64; D]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
     for p in points {
-        for k in 0..2 {
+        for k in 0..D {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
         }
     }
+    (lo, hi)
+}
+
+pub(crate) fn bbox_diagonal(points: &[[f64; 2]]) -> f64 {
+    let (lo, hi) = bounds(points.iter().copied());
     if points.is_empty() {
         return 0.0;
     }

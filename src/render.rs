@@ -87,6 +87,7 @@
 //! the same size as the previous one, with the same triangles, allocates nothing.
 
 use crate::error::{Error, Result};
+use crate::mesh::bounds;
 use crate::meshing::image::{MAX_PIXELS, MAX_SIDE};
 
 /// The largest output-pixel coordinate a vertex may have after the transform: far beyond
@@ -541,13 +542,7 @@ struct Region {
 
 impl Region {
     fn around(pixels: &[[f64; 2]], width: usize, height: usize) -> Region {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in pixels {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = bounds(pixels.iter().copied());
         if pixels.is_empty() {
             return Region { x0: 0, x1: 0, y0: 0, y1: 0 };
         }

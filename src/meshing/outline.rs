@@ -20,7 +20,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{bounds, Mesh};
 
 /// Default smallest angle (degrees) that refinement aims for: 30°.
 pub const DEFAULT_MIN_ANGLE_DEG: f64 = 30.0;
@@ -200,7 +200,7 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
 
     // Spacing, in normalised units.
     let outer_diag = {
-        let (lo, hi) = bbox(&rings[0].pts);
+        let (lo, hi) = bounds(rings[0].pts.iter().copied());
         ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt()
     };
     let mut spacing = match options.spacing {
@@ -458,13 +458,7 @@ struct Frame {
 
 impl Frame {
     fn of(rings: &[Ring]) -> Frame {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in rings.iter().flat_map(|r| &r.orig_pts) {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = bounds(rings.iter().flat_map(|r| r.orig_pts.iter().copied()));
         // Halves first: no overflow even for coordinates near f64::MAX.
         let centre = [lo[0] / 2.0 + hi[0] / 2.0, lo[1] / 2.0 + hi[1] / 2.0];
         let scale = (hi[0] / 2.0 - lo[0] / 2.0).max(hi[1] / 2.0 - lo[1] / 2.0);
@@ -481,17 +475,6 @@ impl Frame {
     fn to_input(&self, q: [f64; 2]) -> [f64; 2] {
         [self.centre[0] + q[0] * self.scale, self.centre[1] + q[1] * self.scale]
     }
-}
-
-fn bbox(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (lo, hi)
 }
 
 /// Sign of the orientation of `(a, b, c)`: 1 counter-clockwise, -1 clockwise, 0 collinear
@@ -560,7 +543,7 @@ fn check_crossings(rings: &[Ring]) -> Result<()> {
         }
     }
     // Sweep along the axis with the smaller total extent relative to the box.
-    let (blo, bhi) = bbox(&rings[0].pts);
+    let (blo, bhi) = bounds(rings[0].pts.iter().copied());
     let extent = |axis: usize| {
         let total: f64 = segs.iter().map(|s| s.hi[axis] - s.lo[axis]).sum();
         total / (bhi[axis] - blo[axis]).max(f64::MIN_POSITIVE)
@@ -629,7 +612,7 @@ pub(crate) fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
 
 /// With no crossings, a loop lies inside another iff any of its points does.
 fn check_holes(rings: &[Ring]) -> Result<()> {
-    let boxes: Vec<_> = rings.iter().map(|r| bbox(&r.pts)).collect();
+    let boxes: Vec<_> = rings.iter().map(|r| bounds(r.pts.iter().copied())).collect();
     let contains = |outer: usize, inner: usize| {
         let ((olo, ohi), (ilo, ihi)) = (boxes[outer], boxes[inner]);
         olo[0] <= ilo[0]

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{bounds, Mesh};
 use crate::meshing::outline::{mesh_outline, OutlineOptions};
 
 /// A mesh ready to register, with what a renderer needs around it.
@@ -144,14 +144,7 @@ pub(crate) struct JsonOwned {
 /// Texture coordinates normalised by the bounding box of `points` (0 along an axis on
 /// which the box is flat).
 pub(crate) fn box_uvs(points: &[[f64; 2]]) -> Vec<[f32; 2]> {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = bounds(points.iter().copied());
     let size = [hi[0] - lo[0], hi[1] - lo[1]];
     points
         .iter()
