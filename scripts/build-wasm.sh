@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the npm package's contents in pkg/:
 #   wasm-pack build --release --target web   (wasm-opt off in Cargo.toml)
-#   wasm-opt -Oz from the npm package binaryen (not Debian's: see DESIGN.md)
+#   wasm-opt -Oz from the npm package binaryen (not Debian's binaryen 108, which breaks
+#   the externref table that wasm-bindgen emits)
 # Skips the build when pkg/ is newer than src/, Cargo.toml, Cargo.lock,
 # package-lock.json and this script (set BUNRAKU_FORCE_BUILD=1 or pass --force to build anyway).
 # Expects scripts/setup.sh to have run.

@@ -139,8 +139,8 @@ pub enum Error {
         /// The picture's height, in pixels.
         height: u32,
     },
-    /// A picture size that is zero or beyond [`crate::meshing::image::MAX_SIDE`] pixels per
-    /// side or [`crate::meshing::image::MAX_PIXELS`] pixels in all.
+    /// A picture size that is zero or beyond [`crate::limits::MAX_SIDE`] pixels per
+    /// side or [`crate::limits::MAX_PIXELS`] pixels in all.
     ImageSize {
         /// The width given, in pixels.
         width: u32,
@@ -148,8 +148,8 @@ pub enum Error {
         height: u32,
     },
     /// A frame size for [`crate::render::Renderer`] that is zero or beyond
-    /// [`crate::meshing::image::MAX_SIDE`] pixels per side or
-    /// [`crate::meshing::image::MAX_PIXELS`] pixels in all.
+    /// [`crate::limits::MAX_SIDE`] pixels per side or
+    /// [`crate::limits::MAX_PIXELS`] pixels in all.
     RenderSize {
         /// The width asked for, in pixels.
         width: u32,
@@ -254,14 +254,14 @@ impl fmt::Display for Error {
             Error::ImageSize { width, height } => write!(
                 f,
                 "picture: size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
-                crate::meshing::image::MAX_SIDE,
-                crate::meshing::image::MAX_PIXELS
+                crate::limits::MAX_SIDE,
+                crate::limits::MAX_PIXELS
             ),
             Error::RenderSize { width, height } => write!(
                 f,
                 "render: output size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
-                crate::meshing::image::MAX_SIDE,
-                crate::meshing::image::MAX_PIXELS
+                crate::limits::MAX_SIDE,
+                crate::limits::MAX_PIXELS
             ),
             Error::NoOpaquePixel { alpha_threshold, specks, min_area } => {
                 if *specks == 0 {

@@ -27,22 +27,29 @@
 
 #![warn(missing_docs)]
 
-pub mod arap;
+pub mod conventions;
+pub mod deform;
 pub mod error;
 pub mod flatten;
+mod geometry;
+pub mod limits;
 pub mod locate;
 pub mod mesh;
 pub mod meshing;
 pub mod quality;
 pub mod render;
+mod segments;
 mod solver;
+pub mod surface;
+mod topology;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
-pub use arap::{EdgeWeights, Handle, Options, Pinned, Rest};
+pub use deform::{EdgeWeights, Handle, Options, Pin, PinKind, Pinned, Rest, Target};
 pub use error::{Error, Result};
-pub use flatten::{flatten, FlattenOptions, Flattening, Pin, Surface};
+pub use flatten::{flatten, FlattenOptions, Flattening, VertexPin};
 pub use locate::Location;
 pub use mesh::{Edge, Mesh};
 pub use quality::{Quality, Summary, TriangleQuality};
 pub use render::{RenderOptions, Renderer};
+pub use surface::Surface;

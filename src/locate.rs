@@ -1,7 +1,8 @@
 //! Point location: which triangle of a [`Mesh`] holds a point, and its barycentric
 //! coordinates there (Igarashi & Igarashi 2009, section 5).
 
-use crate::mesh::{bounds, cross, dot, sub, Mesh};
+use crate::geometry::{bounds, cross, dot, sub};
+use crate::mesh::Mesh;
 
 /// A point inside a triangle: the triangle and the point's barycentric weights, which are
 /// non-negative and sum to one.

@@ -1,37 +1,12 @@
 //! [`Mesh`]: validated 2D vertices and counter-clockwise triangles, with the topology the
 //! deformation needs: undirected edges with their `[i, j, l, r]` neighbourhoods
-//! (Igarashi & Igarashi 2009, figure 4), boundary edges and connected components.
+//! (Igarashi & Igarashi 2009, figure 4; [conventions](crate::conventions) 1), triangle
+//! adjacency, boundary edges and connected components (built by the crate-private `topology` module).
 
 use crate::error::{check_finite, points_from_flat, Error, Result};
-
-/// An undirected edge `i < j` with the third vertices of its triangles.
-///
-/// `l` is the third vertex of the triangle in which `i → j` runs counter-clockwise (so `l`
-/// lies to the left of `i → j`), `r` the third vertex of the other triangle, `None` on a
-/// boundary edge (DESIGN.md convention 1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Edge {
-    /// Smaller vertex index.
-    pub i: u32,
-    /// Larger vertex index.
-    pub j: u32,
-    /// Vertex to the left of `i → j`, if a triangle lies there.
-    pub l: Option<u32>,
-    /// Vertex to the right of `i → j`, if a triangle lies there.
-    pub r: Option<u32>,
-}
-
-impl Edge {
-    /// The neighbourhood `[i, j, l, r]` without the missing side: 3 or 4 vertices.
-    pub fn neighbourhood(&self) -> impl Iterator<Item = u32> + '_ {
-        [Some(self.i), Some(self.j), self.l, self.r].into_iter().flatten()
-    }
-
-    /// Whether only one triangle touches the edge.
-    pub fn is_boundary(&self) -> bool {
-        self.l.is_none() || self.r.is_none()
-    }
-}
+use crate::geometry::{bbox_diagonal, cross, dot, sub};
+pub use crate::topology::Edge;
+use crate::topology::{build_edges, check_duplicates, components, NO_TRIANGLE};
 
 /// A validated triangle mesh in the plane.
 ///
@@ -43,6 +18,7 @@ pub struct Mesh {
     vertices: Vec<[f64; 2]>,
     triangles: Vec<[u32; 3]>,
     edges: Vec<Edge>,
+    neighbours: Vec<[u32; 3]>,
     component: Vec<u32>,
     component_count: usize,
     diameter: f64,
@@ -97,9 +73,9 @@ impl Mesh {
             return Err(Error::UnusedVertex { vertex });
         }
         check_duplicates(&triangles)?;
-        let edges = build_edges(&triangles)?;
+        let (edges, neighbours) = build_edges(&triangles)?;
         let (component, component_count) = components(n, &edges);
-        Ok(Mesh { vertices, triangles, edges, component, component_count, diameter })
+        Ok(Mesh { vertices, triangles, edges, neighbours, component, component_count, diameter })
     }
 
     /// [`Mesh::new`] from flat arrays `[x0, y0, x1, y1, …]` and `[a0, b0, c0, a1, …]`.
@@ -121,6 +97,13 @@ impl Mesh {
     /// Every undirected edge once, sorted by `(i, j)`.
     pub fn edges(&self) -> &[Edge] {
         &self.edges
+    }
+
+    /// Each triangle's neighbours across its local edges: entry `k` of triangle `t` is the
+    /// triangle on the other side of the edge from corner `k` to corner `k + 1 (mod 3)`, or
+    /// `None` on the boundary.
+    pub fn triangle_neighbours(&self, t: usize) -> [Option<u32>; 3] {
+        self.neighbours[t].map(|u| if u == NO_TRIANGLE { None } else { Some(u) })
     }
 
     /// The edges with only one triangle.
@@ -163,123 +146,4 @@ pub(crate) fn triples_from_flat<T: Copy>(what: &'static str, flat: &[T]) -> Resu
         return Err(Error::BadLength { what, len: flat.len(), expected: "a multiple of 3".into() });
     }
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
-}
-
-pub(crate) fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
-    let mut keyed: Vec<([u32; 3], usize)> = triangles
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| {
-            let mut k = *tri;
-            k.sort_unstable();
-            (k, t)
-        })
-        .collect();
-    keyed.sort_unstable();
-    for w in keyed.windows(2) {
-        if w[0].0 == w[1].0 {
-            return Err(Error::DuplicateTriangle { first: w[0].1, second: w[1].1 });
-        }
-    }
-    Ok(())
-}
-
-/// Builds the undirected edges by sorting the triangles' directed half-edges.
-pub(crate) fn build_edges(triangles: &[[u32; 3]]) -> Result<Vec<Edge>> {
-    // (i, j, third vertex, whether i → j runs counter-clockwise in that triangle)
-    let mut half: Vec<(u32, u32, u32, bool)> = Vec::with_capacity(3 * triangles.len());
-    for tri in triangles {
-        for k in 0..3 {
-            let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
-            half.push((a.min(b), a.max(b), c, a < b));
-        }
-    }
-    half.sort_unstable();
-    let mut edges = Vec::with_capacity(half.len() / 2 + 1);
-    let mut k = 0;
-    while k < half.len() {
-        let (i, j) = (half[k].0, half[k].1);
-        let mut end = k + 1;
-        while end < half.len() && half[end].0 == i && half[end].1 == j {
-            end += 1;
-        }
-        if end - k > 2 {
-            return Err(Error::NonManifoldEdge { i, j, triangles: end - k });
-        }
-        let mut edge = Edge { i, j, l: None, r: None };
-        for &(_, _, c, ccw) in &half[k..end] {
-            let side = if ccw { &mut edge.l } else { &mut edge.r };
-            if side.is_some() {
-                return Err(Error::FoldedEdge { i, j });
-            }
-            *side = Some(c);
-        }
-        edges.push(edge);
-        k = end;
-    }
-    Ok(edges)
-}
-
-/// Labels connected components with a union-find over the edges.
-pub(crate) fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            let up = parent[parent[x as usize] as usize];
-            parent[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-    for e in edges {
-        let (a, b) = (find(&mut parent, e.i), find(&mut parent, e.j));
-        if a != b {
-            parent[a.max(b) as usize] = a.min(b);
-        }
-    }
-    let mut label = vec![u32::MAX; n];
-    let mut component = vec![0; n];
-    let mut count = 0;
-    for (v, c) in component.iter_mut().enumerate() {
-        let root = find(&mut parent, v as u32) as usize;
-        if label[root] == u32::MAX {
-            label[root] = count;
-            count += 1;
-        }
-        *c = label[root];
-    }
-    (component, count as usize)
-}
-
-/// The bounding box `(lo, hi)` of `points`, in any dimension; `([∞; D], [−∞; D])` when
-/// there are none.
-pub(crate) fn bounds<const D: usize>(points: impl IntoIterator<Item = [f64; D]>) -> ([f64; D], [f64; D]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
-    for p in points {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (lo, hi)
-}
-
-pub(crate) fn bbox_diagonal(points: &[[f64; 2]]) -> f64 {
-    let (lo, hi) = bounds(points.iter().copied());
-    if points.is_empty() {
-        return 0.0;
-    }
-    ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt()
-}
-
-pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-pub(crate) fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-pub(crate) fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
 }

@@ -6,7 +6,7 @@
 //! the result's: `J = [q1 − q0, q2 − q0] · [p1 − p0, p2 − p0]⁻¹`, with the rest triangle in
 //! its own plane (2D rest: the mesh's coordinates, counter-clockwise; 3D rest: each
 //! triangle's own isometric frame, counter-clockwise as seen from its normal side, see
-//! [`crate::flatten::Surface::triangle_frame`]). From its **signed** singular values
+//! [`crate::surface::Surface::triangle_frame`]). From its **signed** singular values
 //! `σ1 ≥ |σ2|` (`σ2 < 0` when `J` reverses orientation, so that a mirrored triangle is not
 //! mistaken for an undistorted one):
 //!
@@ -19,8 +19,9 @@
 //! the value at sorted index `round((n − 1) p)`). Edge strain is `|ℓ′/ℓ − 1|` per edge.
 
 use crate::error::{Error, Result};
-use crate::flatten::Surface;
+use crate::geometry::space::{norm, sub};
 use crate::mesh::{Edge, Mesh};
+use crate::surface::Surface;
 
 /// The distortion of one triangle (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -183,6 +184,6 @@ pub fn quality_3d(surface: &Surface, positions: &[[f64; 2]]) -> Result<Quality> 
         .map(|(k, t)| triangle_quality(surface.triangle_frame(k), t.map(|v| positions[v as usize])))
         .collect();
     let v = surface.vertices();
-    let length = |e: &Edge| crate::flatten::norm(crate::flatten::sub(v[e.j as usize], v[e.i as usize]));
+    let length = |e: &Edge| norm(sub(v[e.j as usize], v[e.i as usize]));
     Ok(assemble(per, surface.edges(), length, positions))
 }

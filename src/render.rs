@@ -87,11 +87,12 @@
 //! the same size as the previous one, with the same triangles, allocates nothing.
 
 use crate::error::{Error, Result};
-use crate::mesh::bounds;
-use crate::meshing::image::{MAX_PIXELS, MAX_SIDE};
+use crate::geometry::bounds;
+use crate::limits::size_allowed;
+use crate::topology::{chain_loops, corner, edge_runs, half_edges};
 
 /// The largest output-pixel coordinate a vertex may have after the transform: far beyond
-/// any frame (at most [`MAX_SIDE`] pixels a side), small enough for the scan conversion's
+/// any frame (at most [`MAX_SIDE`](crate::limits::MAX_SIDE) pixels a side), small enough for the scan conversion's
 /// arithmetic to stay exact to a tiny fraction of a pixel.
 pub const MAX_PIXEL_COORDINATE: f64 = 1e9;
 
@@ -193,35 +194,15 @@ impl Topology {
         self.triangles.extend_from_slice(triangles);
         self.boundary.clear();
         self.shared.clear();
-        self.loops.clear();
-        self.starts.clear();
 
-        // Directed edges, sorted by undirected edge: (smaller vertex, larger vertex,
-        // 4 × triangle + local edge (for up to 2³⁰ triangles), whether it runs from the
-        // smaller to the larger). The tuple types of the sorts here are those of `Mesh` and
-        // `boundary_loops`, so that the .wasm holds one copy of each sort (16 KB less).
-        let mut edges: Vec<(u32, u32, u32, bool)> = Vec::with_capacity(3 * triangles.len());
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                if a != b {
-                    edges.push((a.min(b), a.max(b), (4 * t + k) as u32, a < b));
-                }
-            }
-        }
-        edges.sort_unstable();
-        let corner = |code: u32| (code / 4, (code % 4) as u8);
+        // Directed edges, sorted by undirected edge (shared with `Mesh`, so that the .wasm
+        // holds one copy of the sort).
+        let edges = half_edges(triangles);
         // What is left of each undirected edge after cancelling opposite directions: the
         // cycle whose winding number is the signed count of triangles covering a point.
         let mut left: Vec<(u32, u32)> = Vec::new();
-        let mut start = 0;
-        while start < edges.len() {
-            let (lo, hi) = (edges[start].0, edges[start].1);
-            let mut end = start + 1;
-            while end < edges.len() && (edges[end].0, edges[end].1) == (lo, hi) {
-                end += 1;
-            }
-            let group = &edges[start..end];
+        for group in edge_runs(&edges) {
+            let (lo, hi) = (group[0].0, group[0].1);
             match group {
                 [(_, _, c, _)] => self.boundary.push(corner(*c)),
                 [(_, _, c, f), (_, _, d, g)] => {
@@ -238,37 +219,9 @@ impl Topology {
             for _ in forward..backward {
                 left.push((hi, lo));
             }
-            start = end;
         }
-        // Chain them into loops: every vertex has as many edges in as out, so a walk can
-        // only get stuck where it started. Sorted, the edges out of a vertex are a run; the
-        // used ones are always a prefix of their run, up to `cursor[run start]`.
-        left.sort_unstable();
-        let n = left.len();
-        let run = |v: u32| left.partition_point(|e| e.0 < v);
-        let mut cursor: Vec<usize> = (0..n).collect();
-        for e0 in 0..n {
-            let s0 = run(left[e0].0);
-            if e0 < cursor[s0] {
-                continue;
-            }
-            cursor[s0] = e0 + 1;
-            self.starts.push(self.loops.len());
-            let mut e = e0;
-            loop {
-                self.loops.push(left[e].0);
-                let v = left[e].1;
-                let s = run(v);
-                match cursor.get(s).copied() {
-                    Some(c) if c < n && left[c].0 == v => {
-                        cursor[s] = c + 1;
-                        e = c;
-                    }
-                    _ => break,
-                }
-            }
-        }
-        self.starts.push(self.loops.len());
+        // Chained into closed loops (every vertex has as many edges in as out).
+        (self.loops, self.starts) = chain_loops(left);
     }
 }
 
@@ -278,8 +231,8 @@ impl Renderer {
     /// premultiplied here, once.
     ///
     /// Errors: [`Error::ImageSize`] for a side of 0 or above
-    /// [`MAX_SIDE`], or more than
-    /// [`MAX_PIXELS`] pixels;
+    /// [`MAX_SIDE`](crate::limits::MAX_SIDE), or more than
+    /// [`MAX_PIXELS`](crate::limits::MAX_PIXELS) pixels;
     /// [`Error::ImageBufferLength`] when `rgba.len() != width × height × 4`.
     pub fn new(rgba: &[u8], width: u32, height: u32) -> Result<Renderer> {
         check_texture(rgba.len(), width, height)?;
@@ -308,8 +261,8 @@ impl Renderer {
         })
     }
 
-    /// Checks a frame size: each side 1 to [`MAX_SIDE`]
-    /// pixels, at most [`MAX_PIXELS`] pixels in all;
+    /// Checks a frame size: each side 1 to [`MAX_SIDE`](crate::limits::MAX_SIDE)
+    /// pixels, at most [`MAX_PIXELS`](crate::limits::MAX_PIXELS) pixels in all;
     /// [`Error::RenderSize`] otherwise.
     pub fn check_frame_size(width: u32, height: u32) -> Result<()> {
         check_frame(width, height)
@@ -351,8 +304,8 @@ impl Renderer {
     /// (see the module docs for the conventions).
     ///
     /// Errors, all checked before anything is drawn: [`Error::RenderSize`] for a frame side
-    /// of 0 or above [`MAX_SIDE`] (or more than
-    /// [`MAX_PIXELS`] pixels);
+    /// of 0 or above [`MAX_SIDE`](crate::limits::MAX_SIDE) (or more than
+    /// [`MAX_PIXELS`](crate::limits::MAX_PIXELS) pixels);
     /// [`Error::CountMismatch`] for an `out` of the wrong length, or `uvs` whose count is
     /// not the number of positions; [`Error::BadOption`] for a non-finite transform;
     /// [`Error::NonFinite`] for a non-finite position or texture coordinate;
@@ -812,12 +765,6 @@ fn check_frame(width: u32, height: u32) -> Result<()> {
     } else {
         Err(Error::RenderSize { width, height })
     }
-}
-
-fn size_allowed(width: u32, height: u32) -> bool {
-    (1..=MAX_SIDE).contains(&width)
-        && (1..=MAX_SIDE).contains(&height)
-        && width as u64 * height as u64 <= MAX_PIXELS
 }
 
 /// `x / 255`, rounded, for `x ≤ 255 · 255`.

@@ -581,7 +581,7 @@ fn parse_flatten_options(options: &JsValue) -> Result<crate::flatten::FlattenOpt
             o.pins = pins
                 .into_iter()
                 .zip(points)
-                .map(|(vertex, target)| crate::flatten::Pin { vertex, target })
+                .map(|(vertex, target)| crate::flatten::VertexPin { vertex, target })
                 .collect();
         }
         _ => {

@@ -1,5 +1,5 @@
-//! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile` (DESIGN.md:
-//! "back-substitutions and rotation fits only; no allocation"), checked with a counting
+//! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile`
+//! (back-substitutions and rotation fits only: `src/deform/mod.rs`), checked with a counting
 //! global allocator. Its own test binary, because the allocator is global.
 
 mod common;

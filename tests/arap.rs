@@ -1,6 +1,7 @@
 //! Behaviour of register / compile / update that a user can check without a reference
-//! solver: rigid motions, the rest shape, handle kinds, invariances and the conventions of
-//! DESIGN.md (6: every update starts from rest; 8: few handles, per component).
+//! solver: rigid motions, the rest shape, handle kinds, invariances and the numbered
+//! conventions of `docs/conventions.md` (6: every update starts from rest; 8: few handles,
+//! per component).
 
 mod common;
 

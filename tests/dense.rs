@@ -8,7 +8,7 @@
 //!
 //! Step 1 (equations 3–5): unknowns `u = [x0, y0, x1, y1, …]` (2n). For an edge `k = (i, j)`
 //! with neighbourhood `N` (3 or 4 vertices) and rest coordinates `q` minus their centroid
-//! (DESIGN.md convention 2), `G_k` stacks the rows `[q_x, q_y]`, `[q_y, −q_x]` and
+//! (`docs/conventions.md`, convention 2), `G_k` stacks the rows `[q_x, q_y]`, `[q_y, −q_x]` and
 //! `(c, s) = (G_kᵀG_k)⁻¹G_kᵀ u_N` (a 2 × 2|N| matrix `P_k` applied to `u`). The two rows of the
 //! edge are `ω ((u_j − u_i) − [[e_x, e_y], [e_y, −e_x]] P_k u_N) = 0`. Handle rows (section 5):
 //! `w Σ_m b_m u_{t_m} = w target`, for x and y. Step 2 (equations 6–7): per edge
@@ -636,15 +636,15 @@ fn mesh_edges_agree_with_reference_neighbourhoods() {
 #[test]
 fn matches_dense_reference_with_many_handles() {
     let shape = Grid::new(10, 7).jitter(0.2, 5).shape();
-    let near: Vec<[f64; 2]> = (0..bunraku::arap::BASIS_MAX_HANDLES + 4)
+    let near: Vec<[f64; 2]> = (0..bunraku::deform::BASIS_MAX_HANDLES + 4)
         .map(|k| [0.5 + (k % 10) as f64, 0.5 + 3.0 * (k / 10) as f64])
         .collect();
     let handles = handles_near(&shape, &near);
-    assert!(handles.len() > bunraku::arap::BASIS_MAX_HANDLES);
+    assert!(handles.len() > bunraku::deform::BASIS_MAX_HANDLES);
     let targets = pose(&handle_points(&shape, &handles), 0.4, 0.05, 3);
     compare("many handles", &shape, EdgeWeights::Uniform, &handles, &targets);
     // Exactly at the limit, the basis path.
-    let few = &handles[..bunraku::arap::BASIS_MAX_HANDLES];
+    let few = &handles[..bunraku::deform::BASIS_MAX_HANDLES];
     let targets = pose(&handle_points(&shape, few), 0.4, 0.05, 4);
     compare("handles at the limit", &shape, EdgeWeights::Uniform, few, &targets);
 }

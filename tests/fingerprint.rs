@@ -18,7 +18,7 @@ mod common;
 mod surfaces;
 
 use bunraku::meshing::{mesh_image, mesh_outline, star, test_character, ImageOptions, OutlineOptions};
-use bunraku::{flatten, EdgeWeights, FlattenOptions, Handle, Mesh, Options, Pin, Rest, Surface};
+use bunraku::{flatten, EdgeWeights, FlattenOptions, Handle, Mesh, Options, Rest, Surface, VertexPin};
 use common::{annulus, Grid};
 use surfaces::{disc, height_field, sphere_cap};
 
@@ -240,7 +240,7 @@ fn flatten_height_field_uniform_pins() {
     let options = FlattenOptions {
         weights: EdgeWeights::Uniform,
         handle_weight: 500.0,
-        pins: vec![Pin { vertex: 0, target: [0.0, 0.0] }, Pin { vertex: 16, target: [1.1, 0.0] }],
+        pins: vec![VertexPin { vertex: 0, target: [0.0, 0.0] }, VertexPin { vertex: 16, target: [1.1, 0.0] }],
     };
     let result = flatten(&surface, &options).unwrap();
     check("flatten height field uniform pins", Hash::new().points(&result.positions));

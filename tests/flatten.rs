@@ -5,7 +5,7 @@
 #[path = "common/surfaces.rs"]
 mod surfaces;
 
-use bunraku::flatten::{default_pins, flatten, FlattenOptions, Pin, Surface};
+use bunraku::flatten::{default_pins, flatten, FlattenOptions, Surface, VertexPin as Pin};
 use bunraku::meshing::read_obj_surface;
 use bunraku::{EdgeWeights, Error};
 use surfaces::*;

@@ -27,19 +27,18 @@
 //! ```
 
 use std::collections::HashMap;
+use std::ops::ControlFlow;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::meshing::outline::{
-    estimate_vertices, inside, mesh_outline, segments_meet, OutlineOptions, DEFAULT_MIN_ANGLE_DEG,
-    MAX_MIN_ANGLE_DEG,
+    estimate_vertices, inside, mesh_outline, OutlineOptions, DEFAULT_MIN_ANGLE_DEG, MAX_MIN_ANGLE_DEG,
 };
 use crate::meshing::shape::ShapeMesh;
+use crate::segments::{overlapping_pairs, segment_box, segments_meet};
+use crate::topology::UnionFind;
 
-/// Largest accepted picture side, in pixels.
-pub const MAX_SIDE: u32 = 16384;
-/// Largest accepted picture, in pixels (`2^26`, a 8192 × 8192 picture: 256 MB of RGBA).
-pub const MAX_PIXELS: u64 = 1 << 26;
+pub use crate::limits::{MAX_PIXELS, MAX_SIDE};
 /// Default alpha threshold: a pixel is opaque when its alpha is at least 128.
 pub const DEFAULT_ALPHA_THRESHOLD: u8 = 128;
 /// Default margin grown around the opaque pixels: 2 pixels.
@@ -162,12 +161,7 @@ impl ImageOptions {
 /// `max_vertices` below the number of contour points, or that cannot be met),
 /// [`Error::NoOpaquePixel`] (nothing reaches the threshold, or only specks do).
 pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) -> Result<ShapeMesh> {
-    if width == 0
-        || height == 0
-        || width > MAX_SIDE
-        || height > MAX_SIDE
-        || width as u64 * height as u64 > MAX_PIXELS
-    {
+    if !crate::limits::size_allowed(width, height) {
         return Err(Error::ImageSize { width, height });
     }
     let (w, h) = (width as usize, height as usize);
@@ -386,14 +380,7 @@ fn drop_specks(mask: &mut [bool], w: usize, h: usize, min_area: f64) -> (usize, 
         runs_in_row(&mask[y * w..(y + 1) * w], y, &mut runs);
     }
     row_start.push(runs.len());
-    let mut parent: Vec<usize> = (0..runs.len()).collect();
-    fn find(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let mut sets = UnionFind::new(runs.len());
     for y in 1..h {
         let (prev, cur) = (row_start[y - 1]..row_start[y], row_start[y]..row_start[y + 1]);
         let mut p = prev.start;
@@ -405,23 +392,20 @@ fn drop_specks(mask: &mut [bool], w: usize, h: usize, min_area: f64) -> (usize, 
             }
             let mut q = p;
             while q < prev.end && runs[q].1 <= e {
-                let (a, b) = (find(&mut parent, q), find(&mut parent, c));
-                if a != b {
-                    parent[a.max(b)] = a.min(b);
-                }
+                sets.union(q as u32, c as u32);
                 q += 1;
             }
         }
     }
     let mut size = vec![0usize; runs.len()];
     for (k, &(_, s, e)) in runs.iter().enumerate() {
-        let root = find(&mut parent, k);
+        let root = sets.find(k as u32) as usize;
         size[root] += e - s;
     }
     let (mut kept, mut dropped) = (0, 0);
-    for k in 0..runs.len() {
-        if parent[k] == k {
-            if (size[k] as f64) < min_area {
+    for (k, &area) in size.iter().enumerate() {
+        if sets.find(k as u32) as usize == k {
+            if (area as f64) < min_area {
                 dropped += 1;
             } else {
                 kept += 1;
@@ -430,7 +414,7 @@ fn drop_specks(mask: &mut [bool], w: usize, h: usize, min_area: f64) -> (usize, 
     }
     if dropped > 0 {
         for (k, &(y, s, e)) in runs.iter().enumerate() {
-            let root = find(&mut parent, k);
+            let root = sets.find(k as u32) as usize;
             if (size[root] as f64) < min_area {
                 mask[y * w + s..y * w + e].fill(false);
             }
@@ -788,48 +772,30 @@ fn crossing_loops(loops: &[Vec<[f64; 2]>]) -> Vec<usize> {
         k: usize,
         a: [f64; 2],
         b: [f64; 2],
-        lo: [f64; 2],
-        hi: [f64; 2],
     }
     let mut segs: Vec<Seg> = Vec::new();
+    let mut boxes = Vec::new();
     for (l, pts) in loops.iter().enumerate() {
         let n = pts.len();
         for k in 0..n {
             let (a, b) = (pts[k], pts[(k + 1) % n]);
-            segs.push(Seg {
-                l,
-                k,
-                a,
-                b,
-                lo: [a[0].min(b[0]), a[1].min(b[1])],
-                hi: [a[0].max(b[0]), a[1].max(b[1])],
-            });
+            segs.push(Seg { l, k, a, b });
+            boxes.push(segment_box(a, b));
         }
     }
-    segs.sort_by(|s, t| s.lo[0].total_cmp(&t.lo[0]));
     let mut bad = vec![false; loops.len()];
-    let mut active: Vec<usize> = Vec::new();
-    for (s, seg) in segs.iter().enumerate() {
-        active.retain(|&t| segs[t].hi[0] >= seg.lo[0]);
-        for &t in &active {
-            let other = &segs[t];
-            if other.hi[1] < seg.lo[1] || other.lo[1] > seg.hi[1] {
-                continue;
-            }
-            let n = loops[seg.l].len();
-            let adjacent = seg.l == other.l && ((seg.k + 1) % n == other.k || (other.k + 1) % n == seg.k);
-            let hit = if adjacent {
-                folds_back(seg, other, n)
-            } else {
-                segments_meet(seg.a, seg.b, other.a, other.b)
-            };
-            if hit {
-                bad[seg.l] = true;
-                bad[other.l] = true;
-            }
+    overlapping_pairs(&boxes, 0, |i, j| {
+        let (seg, other) = (&segs[i], &segs[j]);
+        let n = loops[seg.l].len();
+        let adjacent = seg.l == other.l && ((seg.k + 1) % n == other.k || (other.k + 1) % n == seg.k);
+        let hit =
+            if adjacent { folds_back(seg, other, n) } else { segments_meet(seg.a, seg.b, other.a, other.b) };
+        if hit {
+            bad[seg.l] = true;
+            bad[other.l] = true;
         }
-        active.push(s);
-    }
+        ControlFlow::Continue(())
+    });
     fn folds_back(s: &Seg, t: &Seg, n: usize) -> bool {
         if n <= 3 {
             return false;

@@ -9,9 +9,9 @@
 //! ```
 
 use crate::error::{Error, Result};
-use crate::flatten::Surface;
 use crate::mesh::Mesh;
 use crate::meshing::shape::{box_uvs, ShapeMesh};
+use crate::surface::Surface;
 
 /// Reads a Wavefront OBJ text into a [`ShapeMesh`].
 ///

@@ -12,15 +12,17 @@
 //! # Ok::<(), bunraku::Error>(())
 //! ```
 
-use std::cmp::Ordering;
 use std::f64::consts::PI;
 use std::fmt;
+use std::ops::ControlFlow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 
 use crate::error::{Error, Result};
-use crate::mesh::{bounds, Mesh};
+use crate::geometry::bounds;
+use crate::mesh::Mesh;
+use crate::segments::{orient, overlapping_pairs, segment_box, segments_meet, sweep_axis};
 
 /// Default smallest angle (degrees) that refinement aims for: 30°.
 pub const DEFAULT_MIN_ANGLE_DEG: f64 = 30.0;
@@ -477,52 +479,15 @@ impl Frame {
     }
 }
 
-/// Sign of the orientation of `(a, b, c)`: 1 counter-clockwise, -1 clockwise, 0 collinear
-/// or too close to call (Shewchuk's static error bound), which the callers treat as a
-/// touch — near-degenerate outlines are rejected rather than handed to spade.
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
-    let l = (b[0] - a[0]) * (c[1] - a[1]);
-    let r = (b[1] - a[1]) * (c[0] - a[0]);
-    let det = l - r;
-    let bound = 3.3306690738754716e-16 * (l.abs() + r.abs());
-    if det > bound {
-        1
-    } else if det < -bound {
-        -1
-    } else {
-        0
-    }
-}
-
-/// Whether `p`, collinear with segment `ab`, lies within its bounding box.
-fn within(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
-    p[0] >= a[0].min(b[0]) && p[0] <= a[0].max(b[0]) && p[1] >= a[1].min(b[1]) && p[1] <= a[1].max(b[1])
-}
-
-/// Whether the closed segments `ab` and `cd` share a point (near-collinear counts as
-/// touching: see `orient`).
-pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
-    let (d1, d2) = (orient(c, d, a), orient(c, d, b));
-    let (d3, d4) = (orient(a, b, c), orient(a, b, d));
-    if d1 * d2 < 0 && d3 * d4 < 0 {
-        return true;
-    }
-    (d1 == 0 && within(c, d, a))
-        || (d2 == 0 && within(c, d, b))
-        || (d3 == 0 && within(a, b, c))
-        || (d4 == 0 && within(a, b, d))
-}
-
 /// Whether consecutive segments `ab`, `bc` fold back onto each other (a zero-angle spike).
 fn folds(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> bool {
     orient(a, b, c) == 0 && (a[0] - b[0]) * (c[0] - b[0]) + (a[1] - b[1]) * (c[1] - b[1]) > 0.0
 }
 
+/// A segment: its ring and index there.
 struct Seg {
     ring: usize,
     k: usize,
-    lo: [f64; 2],
-    hi: [f64; 2],
 }
 
 /// Rejects any two segments (of any loops) that cross, touch or overlap, other than
@@ -531,49 +496,34 @@ struct Seg {
 /// boxes overlap (O(m) for typical outlines, O(m²) at worst).
 fn check_crossings(rings: &[Ring]) -> Result<()> {
     let mut segs = Vec::with_capacity(rings.iter().map(Ring::len).sum());
+    let mut boxes = Vec::with_capacity(segs.capacity());
     for (ri, ring) in rings.iter().enumerate() {
         for k in 0..ring.len() {
             let (a, b) = ring.segment(k);
-            segs.push(Seg {
-                ring: ri,
-                k,
-                lo: [a[0].min(b[0]), a[1].min(b[1])],
-                hi: [a[0].max(b[0]), a[1].max(b[1])],
-            });
+            segs.push(Seg { ring: ri, k });
+            boxes.push(segment_box(a, b));
         }
     }
-    // Sweep along the axis with the smaller total extent relative to the box.
     let (blo, bhi) = bounds(rings[0].pts.iter().copied());
-    let extent = |axis: usize| {
-        let total: f64 = segs.iter().map(|s| s.hi[axis] - s.lo[axis]).sum();
-        total / (bhi[axis] - blo[axis]).max(f64::MIN_POSITIVE)
-    };
-    let (x, y) = if extent(0) <= extent(1) { (0, 1) } else { (1, 0) };
-    let mut order: Vec<usize> = (0..segs.len()).collect();
-    order.sort_unstable_by(|&i, &j| segs[i].lo[x].partial_cmp(&segs[j].lo[x]).unwrap_or(Ordering::Equal));
-    let mut active: Vec<usize> = Vec::new();
-    for &i in &order {
-        let s = &segs[i];
-        active.retain(|&j| segs[j].hi[x] >= s.lo[x]);
-        for &j in &active {
-            let t = &segs[j];
-            if t.lo[y] > s.hi[y] || s.lo[y] > t.hi[y] {
-                continue;
-            }
-            if pair_conflicts(rings, s, t) {
-                let (first, second) = if (t.ring, t.k) < (s.ring, s.k) { (t, s) } else { (s, t) };
-                return Err(Error::BadOutline {
-                    reason: format!(
-                        "{} crosses or touches {}",
-                        rings[first.ring].describe_segment(first.k),
-                        rings[second.ring].describe_segment(second.k)
-                    ),
-                });
-            }
+    let mut conflict = None;
+    overlapping_pairs(&boxes, sweep_axis(&boxes, blo, bhi), |i, j| {
+        let (s, t) = (&segs[i], &segs[j]);
+        if pair_conflicts(rings, s, t) {
+            conflict = Some(if (t.ring, t.k) < (s.ring, s.k) { (t, s) } else { (s, t) });
+            return ControlFlow::Break(());
         }
-        active.push(i);
+        ControlFlow::Continue(())
+    });
+    match conflict {
+        None => Ok(()),
+        Some((first, second)) => Err(Error::BadOutline {
+            reason: format!(
+                "{} crosses or touches {}",
+                rings[first.ring].describe_segment(first.k),
+                rings[second.ring].describe_segment(second.k)
+            ),
+        }),
     }
-    Ok(())
 }
 
 fn pair_conflicts(rings: &[Ring], s: &Seg, t: &Seg) -> bool {

@@ -5,8 +5,10 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::mesh::{bounds, Mesh};
+use crate::geometry::bounds;
+use crate::mesh::Mesh;
 use crate::meshing::outline::{mesh_outline, OutlineOptions};
+use crate::topology::chain_loops;
 
 /// A mesh ready to register, with what a renderer needs around it.
 ///
@@ -161,36 +163,10 @@ pub(crate) fn box_uvs(points: &[[f64; 2]]) -> Vec<[f32; 2]> {
 /// loop starts at the smallest boundary vertex). Where several loops meet at one vertex (a pinch), the loops are still closed
 /// walks over distinct edges. O(b log b) for b boundary edges.
 pub fn boundary_loops(mesh: &Mesh) -> Vec<Vec<u32>> {
-    let mut directed: Vec<(u32, u32)> =
+    let directed: Vec<(u32, u32)> =
         mesh.boundary_edges().map(|e| if e.l.is_some() { (e.i, e.j) } else { (e.j, e.i) }).collect();
-    directed.sort_unstable();
-    let mut used = vec![false; directed.len()];
-    let mut loops = Vec::new();
-    for start in 0..directed.len() {
-        if used[start] {
-            continue;
-        }
-        used[start] = true;
-        let (first, mut to) = directed[start];
-        let mut walk = vec![first];
-        while to != first {
-            walk.push(to);
-            // The unused outgoing edges of `to`.
-            let lo = directed.partition_point(|&(f, _)| f < to);
-            let next = (lo..directed.len()).take_while(|&k| directed[k].0 == to).find(|&k| !used[k]);
-            match next {
-                Some(k) => {
-                    used[k] = true;
-                    to = directed[k].1;
-                }
-                // Cannot happen on a valid mesh (every boundary vertex has as many incoming
-                // as outgoing boundary edges); stop rather than loop.
-                None => break,
-            }
-        }
-        loops.push(walk);
-    }
-    loops
+    let (loops, starts) = chain_loops(directed);
+    starts.windows(2).map(|w| loops[w[0]..w[1]].to_vec()).collect()
 }
 
 /// [`mesh_outline`] with texture coordinates normalised by the outline's bounding box and

@@ -1,11 +1,13 @@
 // What the browser tests (tests/browser/*.test.mjs) and the frame benchmark
 // (benches/browser.mjs) share: build the page, serve it on a free port, drive Debian's
-// Chromium with playwright-core, and read the stage's pixels back.
+// Chromium with playwright-core, and read the stage's pixels back. They use the test
+// build (www/dist-test/, with the window.bunrakuDemo hook) unless asked for the page users
+// get (www/dist/, `variant: "production"`), which has no hook.
 
 import { existsSync } from "node:fs";
 import { PNG } from "pngjs";
 import { chromium } from "playwright-core";
-import { buildPage, DIST } from "../../www/build.mjs";
+import { buildPage, VARIANTS } from "../../www/build.mjs";
 import { serve } from "../../scripts/serve.mjs";
 
 export const CHROMIUM = process.env.BUNRAKU_CHROMIUM ?? "/usr/bin/chromium";
@@ -20,11 +22,12 @@ export const CHROMIUM_ARGS = [
 ];
 export const VIEWPORT = { width: 1100, height: 720 };
 
-/** Builds the page if needed, serves it on a free port and launches Chromium. */
-export async function startDemo({ log = () => {} } = {}) {
+/** Builds the page if needed (`variant`: "test" or "production"), serves it on a free
+ *  port and launches Chromium. */
+export async function startDemo({ log = () => {}, variant = "test" } = {}) {
   if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: run scripts/setup.sh (it installs Debian's chromium)`);
-  await buildPage({ log });
-  const server = await serve(DIST, { port: 0 });
+  await buildPage({ log, variants: [variant] });
+  const server = await serve(VARIANTS[variant].dir, { port: 0 });
   let browser;
   try {
     browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
@@ -67,7 +70,8 @@ export async function openDemo(demo, { initScript, query = "", contextOptions = 
   return { page, context, errors };
 }
 
-/** Waits until the pending frame, if any, is drawn. */
+/** Waits until everything asked of the page is done: opens, compiles and the newest
+ *  solve back from the worker, and drawn. */
 export const settled = (page) => page.evaluate(() => window.bunrakuDemo.settled());
 
 /** The page's viewport as pixels: `at(x, y)` → [r, g, b, a] at viewport CSS pixel (x, y). */

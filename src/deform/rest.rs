@@ -1,0 +1,82 @@
+//! [`Rest`]: a registered rest shape (Igarashi & Igarashi 2009, section 6,
+//! "registration"): everything that depends on the mesh alone.
+
+use std::sync::Arc;
+
+use super::pinned::Pinned;
+use super::pins::{Handle, Pin};
+use super::stencil::edge_stencils;
+use super::system::System;
+use super::{check_options, Options};
+use crate::error::Result;
+use crate::locate::{Location, Locator};
+use crate::mesh::Mesh;
+
+#[derive(Debug)]
+pub(crate) struct RestData {
+    pub(crate) mesh: Mesh,
+    pub(crate) locator: Locator,
+    pub(crate) options: Options,
+    pub(crate) system: System,
+}
+
+/// A registered rest shape: the mesh, a point locator, the per-edge fit rows (equation 3,
+/// on rest coordinates centred on their neighbourhood), both normal matrices' patterns,
+/// orderings and symbolic factorisations. Cheap to clone (shared); it can only be compiled.
+#[derive(Debug, Clone)]
+pub struct Rest(pub(crate) Arc<RestData>);
+
+impl Rest {
+    /// Registers `mesh` (section 6, "registration"). Errors: [`crate::Error::BadOption`]
+    /// for a handle weight outside [`crate::limits::HANDLE_WEIGHT_RANGE`],
+    /// [`crate::Error::Factorization`] if ordering fails. Cost: O(edges) assembly plus the
+    /// AMD ordering and symbolic factorisations.
+    pub fn register(mesh: Mesh, options: Options) -> Result<Rest> {
+        check_options(&options)?;
+        // The identity frame: every neighbourhood in the mesh's own coordinates.
+        let stencils = edge_stencils(mesh.edges(), options.weights, |_, verts| {
+            verts.map(|v| mesh.vertices()[v as usize])
+        });
+        let system = System::new(mesh.vertices().len(), stencils, None)?;
+        let locator = Locator::new(&mesh);
+        Ok(Rest(Arc::new(RestData { mesh, locator, options, system })))
+    }
+
+    /// The rest mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.0.mesh
+    }
+
+    /// The options it was registered with.
+    pub fn options(&self) -> Options {
+        self.0.options
+    }
+
+    /// The number of stored entries in the Cholesky factors of steps 1 and 2.
+    pub fn factor_sizes(&self) -> (usize, usize) {
+        (self.0.system.step1.factor_nnz(), self.0.system.step2.factor_nnz())
+    }
+
+    /// Locates a rest-space point: its triangle and barycentric weights, or `None` outside
+    /// the shape.
+    pub fn locate(&self, p: [f64; 2]) -> Option<Location> {
+        self.0.locator.locate(&self.0.mesh, p)
+    }
+
+    /// Compiles a set of position pins (section 6, "compilation"): locates every handle,
+    /// adds the handle rows `w·(barycentric weights)` and factorises both normal matrices.
+    ///
+    /// Errors: [`crate::Error::HandleOutside`], [`crate::Error::BadHandle`],
+    /// [`crate::Error::NonFinite`], [`crate::Error::CoincidentHandles`] (closer than 10⁻⁹ of
+    /// the shape's diameter), all naming the handle. Zero handles, or a component with
+    /// fewer than two, are allowed ([conventions](crate::conventions) 8).
+    pub fn compile(&self, handles: &[Handle]) -> Result<Pinned> {
+        let pins: Vec<Pin> = handles.iter().copied().map(Pin::from).collect();
+        self.compile_pins(&pins)
+    }
+
+    /// [`Rest::compile`] for pins of any kind.
+    pub fn compile_pins(&self, pins: &[Pin]) -> Result<Pinned> {
+        Pinned::compile(self, pins)
+    }
+}

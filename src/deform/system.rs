@@ -1,0 +1,215 @@
+//! The two normal matrices (Igarashi & Igarashi 2009, section 6): their sparsity patterns,
+//! fixed at registration, and their values, assembled apart from the patterns.
+//!
+//! * Step 1, `A1ᴴA1 = L1ᴴL1 + C1ᴴC1`, complex Hermitian n×n (equations 4–5 in complex form,
+//!   [conventions](crate::conventions) 3): each edge's row couples its neighbourhood
+//!   `N(e_k)`, so the pattern is the union of the neighbourhoods' pairs.
+//! * Step 2, `A2ᵀA2 = L2ᵀL2 + C2ᵀC2`, real n×n, shared by x and y (equation 7): the
+//!   weighted graph Laplacian of the edges.
+//!
+//! A pin's rows couple the three vertices of one triangle, which its edges couple already,
+//! so no pin set changes either pattern: the orderings and symbolic factorisations are made
+//! once here ([`System::new`]), and a new pin set, new edge weights or new pin rows only
+//! need a numeric factorisation of new [`Values`] in the same patterns
+//! ([`crate::solver::Factor::refactor`]).
+
+use num_complex::Complex64 as C64;
+
+use super::pins::PinRow;
+use super::stencil::{EdgeFit, Stencil};
+use crate::error::Result;
+use crate::solver::{Pattern, Symbolic};
+
+/// Everything that depends on the rest shape's stencils alone, whatever frame their
+/// neighbourhoods were given in (2D deformation: the identity; flattening, section 7: each
+/// edge's own unfolding): the stencils, their compact update form, both patterns with
+/// their orderings and symbolic factorisations, and the values of the edge terms.
+#[derive(Debug)]
+pub(crate) struct System {
+    /// The number of unknowns (vertices).
+    pub(crate) n: usize,
+    /// The rows of every edge (equation 3), kept to assemble re-weighted edge terms.
+    pub(crate) stencils: Vec<Stencil>,
+    /// What an update reads of every edge.
+    pub(crate) edges: Vec<EdgeFit>,
+    /// Step 1's pattern, ordering and symbolic factorisation.
+    pub(crate) step1: Symbolic,
+    /// Step 2's pattern, ordering and symbolic factorisation.
+    pub(crate) step2: Symbolic,
+    /// `L1ᴴL1` and `L2ᵀL2` with every edge at its own weight.
+    edge_terms: Values,
+}
+
+/// The values of both normal matrices, in the order of their patterns' entries (upper
+/// triangles, column by column).
+#[derive(Debug, Clone)]
+pub(crate) struct Values {
+    /// Step 1 (`A1ᴴA1`).
+    pub(crate) step1: Vec<C64>,
+    /// Step 2 (`A2ᵀA2`).
+    pub(crate) step2: Vec<f64>,
+}
+
+impl System {
+    /// Assembles and orders both normal matrices of `n` unknowns from the edges' rows, with
+    /// AMD, or with the given elimination order for both steps (see
+    /// [`Symbolic::with_ordering`]).
+    pub(crate) fn new(n: usize, stencils: Vec<Stencil>, order: Option<&[usize]>) -> Result<System> {
+        let (t1, t2) = edge_triplets(&stencils, None);
+        let (step1, step1_values) = symbolic_from(n, t1, order)?;
+        let (step2, step2_values) = symbolic_from(n, t2, order)?;
+        let edges = stencils.iter().map(Stencil::edge_fit).collect();
+        Ok(System {
+            n,
+            stencils,
+            edges,
+            step1,
+            step2,
+            edge_terms: Values { step1: step1_values, step2: step2_values },
+        })
+    }
+
+    /// The edge terms `L1ᴴL1`, `L2ᵀL2` with every edge at its registered weight: the start
+    /// of every pin set's values.
+    pub(crate) fn edge_values(&self) -> Values {
+        self.edge_terms.clone()
+    }
+
+    /// The edge terms with edge `k`'s rows multiplied by `√multipliers[k]` (its energy by
+    /// `multipliers[k]`), in the same patterns. All ones give [`System::edge_values`] up to
+    /// the order of summation.
+    #[allow(dead_code)] // the starch of issue 11 re-weights the edges
+    pub(crate) fn weighted_edge_values(&self, multipliers: &[f64]) -> Values {
+        let mut values = Values {
+            step1: vec![C64::new(0.0, 0.0); self.edge_terms.step1.len()],
+            step2: vec![0.0; self.edge_terms.step2.len()],
+        };
+        let (t1, t2) = edge_triplets(&self.stencils, Some(multipliers));
+        for (r, c, v) in t1 {
+            values.step1[slot(&self.step1, r as usize, c as usize)] += v;
+        }
+        for (r, c, v) in t2 {
+            values.step2[slot(&self.step2, r as usize, c as usize)] += v;
+        }
+        values
+    }
+}
+
+impl Values {
+    /// Adds `w²·(row)ᴴ(row)` for a pin's row `w·Σ_m weights[m]·z[verts[m]]` (section 5)
+    /// to both matrices.
+    pub(crate) fn add_pin_row(&mut self, system: &System, row: &PinRow, w2: f64) {
+        for (vp, wp) in row.terms() {
+            for (vq, wq) in row.terms() {
+                let (r, c) = (vp as usize, vq as usize);
+                if r <= c {
+                    let value = w2 * wp * wq;
+                    self.step1[slot(&system.step1, r, c)] += value;
+                    self.step2[slot(&system.step2, r, c)] += value;
+                }
+            }
+        }
+    }
+
+    /// Replaces vertex `v`'s rows and columns by those of the identity in both matrices:
+    /// for vertices that are not solved ([`super::components`]), whose components couple
+    /// with no other, so the patterns and symbolic factorisations stay valid.
+    pub(crate) fn set_identity(&mut self, system: &System, v: usize) {
+        for (k, row) in system.step1.pattern().column(v) {
+            self.step1[k] = C64::new(if row == v { 1.0 } else { 0.0 }, 0.0);
+        }
+        for (k, row) in system.step2.pattern().column(v) {
+            self.step2[k] = if row == v { 1.0 } else { 0.0 };
+        }
+    }
+}
+
+/// Matrix entries `(row, column, value)`.
+type Triplets<T> = Vec<(u32, u32, T)>;
+
+/// The upper-triangle triplets `(row, column, value)` of `L1ᴴL1` (the products of each
+/// edge's step-1 row, equation 4) and `L2ᵀL2` (the graph Laplacian of the rows
+/// `ω (z_j − z_i)`, equation 7), each edge's energy times `multipliers[k]` when given.
+fn edge_triplets(stencils: &[Stencil], multipliers: Option<&[f64]>) -> (Triplets<C64>, Triplets<f64>) {
+    let mut t1 = Vec::with_capacity(10 * stencils.len());
+    let mut t2 = Vec::with_capacity(3 * stencils.len());
+    for (k, s) in stencils.iter().enumerate() {
+        let h = s.step1_row();
+        let m = multipliers.map_or(1.0, |m| m[k]);
+        for p in 0..s.len {
+            for q in 0..s.len {
+                let (r, c) = (s.verts[p], s.verts[q]);
+                if r <= c {
+                    let v = h[p].conj() * h[q];
+                    t1.push((r, c, if multipliers.is_some() { v * m } else { v }));
+                }
+            }
+        }
+        let (i, j) = (s.verts[0], s.verts[1]);
+        let w2 = if multipliers.is_some() { s.weight * s.weight * m } else { s.weight * s.weight };
+        t2.push((i, i, w2));
+        t2.push((j, j, w2));
+        t2.push((i.min(j), i.max(j), -w2));
+    }
+    (t1, t2)
+}
+
+fn symbolic_from<T: Copy + std::ops::AddAssign>(
+    n: usize,
+    triplets: Vec<(u32, u32, T)>,
+    order: Option<&[usize]>,
+) -> Result<(Symbolic, Vec<T>)> {
+    let (indptr, indices, data) = compressed_columns(n, triplets);
+    Ok((Symbolic::with_ordering(Pattern::new(n, indptr, indices), order)?, data))
+}
+
+/// Compressed sparse columns of `(row, column, value)` triplets, rows sorted within each
+/// column, duplicates summed: a counting sort by column, then a sort within each column.
+fn compressed_columns<T: Copy + std::ops::AddAssign>(
+    n: usize,
+    triplets: Vec<(u32, u32, T)>,
+) -> (Vec<usize>, Vec<usize>, Vec<T>) {
+    let mut count = vec![0usize; n + 1];
+    for &(_, c, _) in &triplets {
+        count[c as usize + 1] += 1;
+    }
+    for k in 0..n {
+        count[k + 1] += count[k];
+    }
+    let mut next = count.clone();
+    let mut bucket: Vec<(u32, T)> = match triplets.first() {
+        Some(&(_, _, v)) => vec![(0, v); triplets.len()],
+        None => Vec::new(),
+    };
+    for (r, c, v) in triplets {
+        bucket[next[c as usize]] = (r, v);
+        next[c as usize] += 1;
+    }
+    let mut indptr = Vec::with_capacity(n + 1);
+    let mut indices = Vec::with_capacity(bucket.len() / 2);
+    let mut data = Vec::with_capacity(bucket.len() / 2);
+    indptr.push(0);
+    for c in 0..n {
+        let column = &mut bucket[count[c]..count[c + 1]];
+        column.sort_unstable_by_key(|&(r, _)| r);
+        for &(r, v) in column.iter() {
+            if indices.len() > *indptr.last().unwrap_or(&0) && indices.last() == Some(&(r as usize)) {
+                if let Some(last) = data.last_mut() {
+                    *last += v;
+                }
+            } else {
+                indices.push(r as usize);
+                data.push(v);
+            }
+        }
+        indptr.push(indices.len());
+    }
+    (indptr, indices, data)
+}
+
+/// The value slot of entry `(r, c)`, `r ≤ c`, of a pattern that holds it.
+pub(crate) fn slot(symbolic: &Symbolic, r: usize, c: usize) -> usize {
+    // Pin rows couple the vertices of one triangle, which its edges already couple; every
+    // caller adds entries inside the pattern it was built with.
+    symbolic.pattern().slot(r, c).expect("the entry is in the pattern")
+}
