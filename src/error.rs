@@ -1,5 +1,10 @@
 //! The crate's one error type: every public entry point returns [`Error`], and every
 //! variant carries the offending index or value so that a message can name it.
+//!
+//! Every error has a stable [`Error::code`] (the JavaScript binding sets it as the `code`
+//! of the `Error` it throws) and a message in a [`Vocabulary`]: `Display` speaks Rust
+//! (field names such as `min_angle_deg`, numbers as Rust prints them); the binding speaks
+//! JavaScript (`minAngle`, `Infinity`) with its own vocabulary over the same templates.
 
 use std::fmt;
 
@@ -22,6 +27,9 @@ pub enum Error {
         what: &'static str,
         /// The index of the offending item (vertex, handle, target).
         index: usize,
+        /// The index of the offending number in the flat array `[x0, y0, …]` (or
+        /// `[x0, y0, z0, …]`) that holds the items.
+        flat: usize,
         /// The offending value.
         value: f64,
     },
@@ -31,6 +39,8 @@ pub enum Error {
         what: &'static str,
         /// The index of the offending item.
         index: usize,
+        /// The index of the offending number in the flat array that holds the items.
+        flat: usize,
         /// The offending value.
         value: f64,
         /// The largest magnitude allowed.
@@ -83,11 +93,15 @@ pub enum Error {
         /// The vertex.
         vertex: usize,
     },
-    /// An option out of its range.
+    /// An option out of its range, or that cannot be met.
     BadOption {
-        /// The option's name.
+        /// The option's name, as the Rust API spells it (a field of an options struct).
         name: &'static str,
-        /// Why.
+        /// The offending value, when one number is at fault.
+        value: Option<f64>,
+        /// What the value must be, or why the option cannot be met (after the value,
+        /// when there is one: "is not in (0, 33] degrees"). Holds no option name and no
+        /// number other than integers and the range's own bounds.
         reason: String,
     },
     /// A handle point that lies outside every triangle.
@@ -195,92 +209,163 @@ pub enum Error {
     },
 }
 
+/// How a message names options and prints numbers: [`RustVocabulary`] for `Display`, the
+/// JavaScript binding's own for the errors it throws.
+pub trait Vocabulary {
+    /// A number as this side prints it.
+    fn number(&self, x: f64) -> String;
+    /// An option's name on this side, from its Rust name (a field of an options struct).
+    fn option<'a>(&self, rust_name: &'a str) -> &'a str;
+}
+
+/// The vocabulary of the Rust API: field names as they are; numbers as `{}` prints them,
+/// or as `{:e}` prints them outside `[10⁻⁶, 10¹⁶)`; `inf`, `NaN`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RustVocabulary;
+
+impl Vocabulary for RustVocabulary {
+    fn number(&self, x: f64) -> String {
+        if x == 0.0 || !x.is_finite() || (1e-6..1e16).contains(&x.abs()) {
+            format!("{x}")
+        } else {
+            format!("{x:e}")
+        }
+    }
+
+    fn option<'a>(&self, rust_name: &'a str) -> &'a str {
+        rust_name
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message(&RustVocabulary))
+    }
+}
+
+impl Error {
+    /// A stable name of the kind of error, for programs to branch on (the JavaScript
+    /// binding's `error.code`): `"non-finite"`, `"bad-length"`, `"index-out-of-range"`,
+    /// `"degenerate-triangle"`, `"duplicate-triangle"`, `"non-manifold-edge"`,
+    /// `"folded-edge"`, `"unused-vertex"`, `"empty-mesh"`, `"too-large"`, `"bad-option"`,
+    /// `"handle-outside"`, `"bad-handle"`, `"coincident-handles"`,
+    /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
+    /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`. A wrong count of items
+    /// ([`Error::CountMismatch`]) is a `"bad-length"` too.
+    pub fn code(&self) -> &'static str {
+        match self {
+            Error::BadLength { .. } | Error::CountMismatch { .. } => "bad-length",
+            Error::NonFinite { .. } => "non-finite",
+            Error::TooLarge { .. } => "too-large",
+            Error::EmptyMesh => "empty-mesh",
+            Error::IndexOutOfRange { .. } => "index-out-of-range",
+            Error::DegenerateTriangle { .. } => "degenerate-triangle",
+            Error::DuplicateTriangle { .. } => "duplicate-triangle",
+            Error::NonManifoldEdge { .. } => "non-manifold-edge",
+            Error::FoldedEdge { .. } => "folded-edge",
+            Error::UnusedVertex { .. } => "unused-vertex",
+            Error::BadOption { .. } => "bad-option",
+            Error::HandleOutside { .. } => "handle-outside",
+            Error::BadHandle { .. } => "bad-handle",
+            Error::CoincidentHandles { .. } => "coincident-handles",
+            Error::Factorization(_) => "factorization-failed",
+            Error::BadOutline { .. } => "bad-outline",
+            Error::ImageBufferLength { .. } | Error::ImageSize { .. } | Error::NoOpaquePixel { .. } => {
+                "bad-picture"
+            }
+            Error::RenderSize { .. } => "bad-size",
+            Error::BadObj { .. } => "bad-obj",
+            Error::BadJson { .. } => "bad-json",
+            Error::InconsistentOrientation { .. } => "inconsistent-orientation",
+            Error::NotADisc { .. } => "not-a-disc",
+        }
+    }
+
+    /// The message in vocabulary `v` (`Display` uses [`RustVocabulary`]).
+    pub fn message(&self, v: &dyn Vocabulary) -> String {
+        let n = |x: f64| v.number(x);
         match self {
             Error::BadLength { what, len, expected } => {
-                write!(f, "{what}: length {len} is not {expected}")
+                format!("{what}: length {len} is not {expected}")
             }
-            Error::NonFinite { what, index, value } => {
-                write!(f, "{what}: item {index} has a non-finite coordinate ({value})")
+            Error::NonFinite { what, index, value, .. } => {
+                format!("{what}: item {index} has a non-finite coordinate ({})", n(*value))
             }
-            Error::TooLarge { what, index, value, limit } => {
-                write!(f, "{what}: item {index} has a coordinate {value:e} beyond ±{limit:e}")
+            Error::TooLarge { what, index, value, limit, .. } => {
+                format!("{what}: item {index} has a coordinate {} beyond ±{}", n(*value), n(*limit))
             }
-            Error::EmptyMesh => write!(f, "the mesh has no triangle"),
-            Error::IndexOutOfRange { triangle, index, vertex_count } => write!(
-                f,
+            Error::EmptyMesh => "the mesh has no triangle".to_string(),
+            Error::IndexOutOfRange { triangle, index, vertex_count } => format!(
                 "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
             ),
             Error::DegenerateTriangle { triangle, doubled_area } => {
-                write!(f, "triangle {triangle} is degenerate (twice its area is {doubled_area:e})")
+                format!("triangle {triangle} is degenerate (twice its area is {})", n(*doubled_area))
             }
             Error::DuplicateTriangle { first, second } => {
-                write!(f, "triangle {second} repeats triangle {first}")
+                format!("triangle {second} repeats triangle {first}")
             }
             Error::NonManifoldEdge { i, j, triangles } => {
-                write!(f, "edge ({i}, {j}) is shared by {triangles} triangles; at most 2 are allowed")
+                format!("edge ({i}, {j}) is shared by {triangles} triangles; at most 2 are allowed")
             }
-            Error::FoldedEdge { i, j } => write!(
-                f,
+            Error::FoldedEdge { i, j } => format!(
                 "the two triangles of edge ({i}, {j}) lie on the same side of it: the mesh folds over itself"
             ),
-            Error::UnusedVertex { vertex } => write!(f, "vertex {vertex} is used by no triangle"),
-            Error::BadOption { name, reason } => write!(f, "option {name}: {reason}"),
+            Error::UnusedVertex { vertex } => format!("vertex {vertex} is used by no triangle"),
+            Error::BadOption { name, value, reason } => match value {
+                Some(x) => format!("option {}: {} {reason}", v.option(name), n(*x)),
+                None => format!("option {}: {reason}", v.option(name)),
+            },
             Error::HandleOutside { handle, point } => {
-                write!(f, "handle {handle} at ({}, {}) lies outside the shape", point[0], point[1])
+                format!("handle {handle} at ({}, {}) lies outside the shape", n(point[0]), n(point[1]))
             }
-            Error::BadHandle { handle, reason } => write!(f, "handle {handle}: {reason}"),
+            Error::BadHandle { handle, reason } => format!("handle {handle}: {reason}"),
             Error::CoincidentHandles { first, second } => {
-                write!(f, "handles {first} and {second} are at the same point")
+                format!("handles {first} and {second} are at the same point")
             }
             Error::CountMismatch { what, got, expected } => {
-                write!(f, "{what}: got {got}, expected {expected}")
+                format!("{what}: got {got}, expected {expected}")
             }
-            Error::Factorization(why) => write!(f, "factorisation failed: {why}"),
-            Error::BadOutline { reason } => write!(f, "bad outline: {reason}"),
-            Error::InconsistentOrientation { i, j } => write!(
-                f,
+            Error::Factorization(why) => format!("factorisation failed: {why}"),
+            Error::BadOutline { reason } => format!("bad outline: {reason}"),
+            Error::InconsistentOrientation { i, j } => format!(
                 "the two triangles of edge ({i}, {j}) run along it in the same direction: orient all triangles consistently"
             ),
-            Error::NotADisc { reason } => write!(f, "the surface is not a topological disc: {reason}"),
+            Error::NotADisc { reason } => format!("the surface is not a topological disc: {reason}"),
             Error::ImageBufferLength { len, width, height } => {
                 let expected = (*width as u128) * (*height as u128) * 4;
-                write!(
-                    f,
+                format!(
                     "picture: the RGBA buffer has {len} bytes, but width × height × 4 = {width} × {height} × 4 = {expected}"
                 )
             }
-            Error::ImageSize { width, height } => write!(
-                f,
+            Error::ImageSize { width, height } => format!(
                 "picture: size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
                 crate::limits::MAX_SIDE,
                 crate::limits::MAX_PIXELS
             ),
-            Error::RenderSize { width, height } => write!(
-                f,
+            Error::RenderSize { width, height } => format!(
                 "render: output size {width} × {height} is not allowed (each side must be 1 to {} pixels, at most {} pixels in all)",
                 crate::limits::MAX_SIDE,
                 crate::limits::MAX_PIXELS
             ),
             Error::NoOpaquePixel { alpha_threshold, specks, min_area } => {
                 if *specks == 0 {
-                    write!(f, "picture: no pixel has an alpha of at least {alpha_threshold}: nothing to mesh")
+                    format!("picture: no pixel has an alpha of at least {alpha_threshold}: nothing to mesh")
                 } else {
-                    write!(
-                        f,
-                        "picture: all {specks} opaque regions (alpha ≥ {alpha_threshold}) are smaller than minArea = {min_area} pixels: nothing to mesh"
+                    format!(
+                        "picture: all {specks} opaque regions (alpha ≥ {alpha_threshold}) are smaller than {} = {} pixels: nothing to mesh",
+                        v.option("min_area"),
+                        n(*min_area)
                     )
                 }
             }
             Error::BadObj { line, reason } => {
                 if *line == 0 {
-                    write!(f, "OBJ: {reason}")
+                    format!("OBJ: {reason}")
                 } else {
-                    write!(f, "OBJ line {line}: {reason}")
+                    format!("OBJ line {line}: {reason}")
                 }
             }
-            Error::BadJson { reason } => write!(f, "mesh JSON: {reason}"),
+            Error::BadJson { reason } => format!("mesh JSON: {reason}"),
         }
     }
 }
@@ -291,11 +376,15 @@ impl std::error::Error for Error {}
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Checks that every coordinate of `points` is finite, naming the first bad item.
-pub(crate) fn check_finite(what: &'static str, points: &[[f64; 2]]) -> Result<()> {
+pub(crate) fn check_finite<T: Copy + Into<f64>, const D: usize>(
+    what: &'static str,
+    points: &[[T; D]],
+) -> Result<()> {
     for (index, p) in points.iter().enumerate() {
-        for &value in p {
+        for (c, &value) in p.iter().enumerate() {
+            let value: f64 = value.into();
             if !value.is_finite() {
-                return Err(Error::NonFinite { what, index, value });
+                return Err(Error::NonFinite { what, index, flat: D * index + c, value });
             }
         }
     }

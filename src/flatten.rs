@@ -220,6 +220,7 @@ fn check_pins(surface: &Surface, pins: &[VertexPin]) -> Result<()> {
     if pins.len() < 2 {
         return Err(Error::BadOption {
             name: "pins",
+            value: None,
             reason: format!(
                 "{} pin(s) given; flattening needs at least two (or none for the default)",
                 pins.len()
@@ -235,11 +236,17 @@ fn check_pins(surface: &Surface, pins: &[VertexPin]) -> Result<()> {
                 reason: format!("vertex {} is out of range (there are {n} vertices)", p.vertex),
             });
         }
-        if let Some(&value) = p.target.iter().find(|x| !x.is_finite()) {
-            return Err(Error::NonFinite { what: "targets", index: k, value });
+        if let Some((c, &value)) = p.target.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(Error::NonFinite { what: "targets", index: k, flat: 2 * k + c, value });
         }
-        if let Some(&value) = p.target.iter().find(|x| x.abs() > MAX_COORDINATE) {
-            return Err(Error::TooLarge { what: "targets", index: k, value, limit: MAX_COORDINATE });
+        if let Some((c, &value)) = p.target.iter().enumerate().find(|(_, x)| x.abs() > MAX_COORDINATE) {
+            return Err(Error::TooLarge {
+                what: "targets",
+                index: k,
+                flat: 2 * k + c,
+                value,
+                limit: MAX_COORDINATE,
+            });
         }
         let first = seen[p.vertex as usize];
         if first != usize::MAX {

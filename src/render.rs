@@ -365,18 +365,15 @@ impl Renderer {
         if let Some((k, &value)) = options.transform.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(Error::BadOption {
                 name: "transform",
-                reason: format!("item {k} is not finite ({value})"),
+                value: Some(value),
+                reason: format!("(item {k}) is not finite"),
             });
         }
         if uvs.len() != positions.len() {
             return Err(Error::CountMismatch { what: "uvs", got: uvs.len(), expected: positions.len() });
         }
         crate::error::check_finite("positions", positions)?;
-        for (index, uv) in uvs.iter().enumerate() {
-            if let Some(&v) = uv.iter().find(|v| !v.is_finite()) {
-                return Err(Error::NonFinite { what: "uvs", index, value: v as f64 });
-            }
-        }
+        crate::error::check_finite("uvs", uvs)?;
         let vertex_count = positions.len();
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&i| i as usize >= vertex_count) {
@@ -387,10 +384,13 @@ impl Renderer {
         self.pixels.clear();
         for (index, p) in positions.iter().enumerate() {
             let q = [a * p[0] + c * p[1] + e, b * p[0] + d * p[1] + f];
-            if let Some(&value) = q.iter().find(|v| !v.is_finite() || v.abs() > MAX_PIXEL_COORDINATE) {
+            if let Some((c, &value)) =
+                q.iter().enumerate().find(|(_, v)| !v.is_finite() || v.abs() > MAX_PIXEL_COORDINATE)
+            {
                 return Err(Error::TooLarge {
                     what: "positions (in output pixels)",
                     index,
+                    flat: 2 * index + c,
                     value,
                     limit: MAX_PIXEL_COORDINATE,
                 });

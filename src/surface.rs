@@ -36,11 +36,7 @@ impl Surface {
         if triangles.is_empty() {
             return Err(Error::EmptyMesh);
         }
-        for (index, p) in vertices.iter().enumerate() {
-            if let Some(&value) = p.iter().find(|x| !x.is_finite()) {
-                return Err(Error::NonFinite { what: "vertices", index, value });
-            }
-        }
+        crate::error::check_finite("vertices", &vertices)?;
         let n = vertices.len();
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&v| v as usize >= n) {

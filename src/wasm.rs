@@ -288,8 +288,9 @@ fn parse_image_options(options: JsValue) -> Result<ImageOptions, JsError> {
     if let Some(t) = js.alpha_threshold {
         if !(t.fract() == 0.0 && (1.0..=255.0).contains(&t)) {
             return Err(js_error(Error::BadOption {
-                name: "alphaThreshold",
-                reason: format!("{t} is not an integer from 1 to 255"),
+                name: "alpha_threshold",
+                value: Some(t),
+                reason: "is not an integer from 1 to 255".into(),
             }));
         }
         o.alpha_threshold = t as u8;
@@ -708,7 +709,7 @@ fn read_numbers<const N: usize>(
     value: &JsValue,
     shape: &str,
 ) -> Result<[f64; N], JsError> {
-    let bad = |reason: String| js_error(Error::BadOption { name, reason });
+    let bad = |reason: String| js_error(Error::BadOption { name, value: None, reason });
     let mut out = [0.0; N];
     let len = if let Some(a) = value.dyn_ref::<js_sys::Array>() {
         if a.length() as usize == N {
@@ -767,7 +768,8 @@ fn parse_render_options(options: &JsValue) -> Result<crate::render::RenderOption
             if !(c.fract() == 0.0 && (0.0..=255.0).contains(&c)) {
                 return Err(js_error(Error::BadOption {
                     name: "background",
-                    reason: format!("item {k} ({c}) is not an integer from 0 to 255"),
+                    value: Some(c),
+                    reason: format!("(item {k}) is not an integer from 0 to 255"),
                 }));
             }
             o.background[k] = c as u8;

@@ -76,8 +76,9 @@ fn mesh_non_finite_vertex_names_its_index() {
         let mut s = square();
         s.vertices[index][coord] = value;
         match mesh_err(s.vertices.clone(), s.triangles.clone()) {
-            Error::NonFinite { what: "vertices", index: got, value: v } => {
+            Error::NonFinite { what: "vertices", index: got, flat, value: v } => {
                 assert_eq!(got, index);
+                assert_eq!(flat, 2 * index + coord, "index in the flat array");
                 assert!(v.is_nan() == value.is_nan() && (v.is_nan() || v == value), "value {v}");
             }
             other => panic!("vertex {index} = {value}: got {other:?}"),
@@ -214,7 +215,7 @@ fn options_bad_handle_weight() {
     for bad in [f64::NAN, 0.0, -0.0, -1.0, -1000.0, f64::INFINITY, f64::NEG_INFINITY] {
         for weights in [EdgeWeights::Uniform, EdgeWeights::Cotangent] {
             match Rest::register(square().mesh(), Options { weights, handle_weight: bad }) {
-                Err(Error::BadOption { name: "handleWeight", .. }) => {}
+                Err(Error::BadOption { name: "handle_weight", .. }) => {}
                 other => panic!("handle_weight {bad}: got {other:?}"),
             }
         }
@@ -269,7 +270,8 @@ fn compile_non_finite_handle_point() {
         ([f64::NEG_INFINITY, f64::NAN], f64::NEG_INFINITY),
     ] {
         match compile_err(&rest, &[ok, Handle::Point([2.0, 2.0]), Handle::Point(p)]) {
-            Error::NonFinite { what: "handles", index: 2, value: v } => {
+            Error::NonFinite { what: "handles", index: 2, flat, value: v } => {
+                assert_eq!(flat, if p[0].is_finite() { 5 } else { 4 }, "{p:?}: index in the flat array");
                 assert!(v.is_nan() == value.is_nan() && (v.is_nan() || v == value), "{p:?}: value {v}");
             }
             other => panic!("{p:?}: got {other:?}"),
@@ -406,8 +408,9 @@ fn update_non_finite_target_names_it() {
         let mut targets = w.targets.clone();
         targets[index][coord] = value;
         match w.pinned.update(&targets).unwrap_err() {
-            Error::NonFinite { what: "targets", index: got, value: v } => {
+            Error::NonFinite { what: "targets", index: got, flat, value: v } => {
                 assert_eq!(got, index);
+                assert_eq!(flat, 2 * index + coord, "index in the flat array");
                 assert!(v.is_nan() == value.is_nan() && (v.is_nan() || v == value), "value {v}");
             }
             other => panic!("target {index} = {value}: got {other:?}"),
@@ -443,14 +446,14 @@ fn messages_name_the_offender() {
 }
 
 /// Every handle weight that `register` accepts compiles a valid handle set; the others are
-/// rejected up front as [`Error::BadOption`] naming `handleWeight` (w² far above or below the
+/// rejected up front as [`Error::BadOption`] naming `handle_weight` (w² far above or below the
 /// edge terms of order 1 makes the normal matrices numerically singular).
 #[test]
 fn accepted_handle_weights_compile() {
     let shape = Grid::new(4, 3).shape();
     for handle_weight in [1e-12, 1e-8, 1e-6, 1.0, 1e6, 1e8, 1e12] {
         match Rest::register(shape.mesh(), Options { handle_weight, ..Options::default() }) {
-            Err(Error::BadOption { name: "handleWeight", .. }) => {}
+            Err(Error::BadOption { name: "handle_weight", .. }) => {}
             Err(other) => panic!("handle_weight {handle_weight}: register failed with {other:?}"),
             Ok(rest) => {
                 let compiled = rest.compile(&[Handle::Point([0.5, 0.5]), Handle::Point([3.5, 2.5])]);

@@ -342,7 +342,7 @@ fn bad_pins_and_options_return_their_errors() {
     ));
     assert!(matches!(with(vec![pin(0, 0.0), pin(3, 1e300)]), Err(Error::TooLarge { index: 1, .. })));
     let heavy = FlattenOptions { handle_weight: 0.0, ..FlattenOptions::default() };
-    assert!(matches!(flatten(&s, &heavy), Err(Error::BadOption { name: "handleWeight", .. })));
+    assert!(matches!(flatten(&s, &heavy), Err(Error::BadOption { name: "handle_weight", .. })));
 }
 
 /// The surface as OBJ text: `v x y z` lines, then `f` lines with 1-based indices in one of

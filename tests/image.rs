@@ -297,7 +297,7 @@ fn errors() {
     speck[4 * 9 + 3] = 255;
     let e = mesh_image(&speck, 8, 8, &o).unwrap_err();
     assert!(matches!(e, Error::NoOpaquePixel { specks: 1, .. }), "{e:?}");
-    assert!(e.to_string().contains("minArea = 16"), "{e}");
+    assert!(e.to_string().contains("min_area = 16"), "{e}");
     let full = vec![255u8; 8 * 8 * 4];
     let bad = [
         ("alpha_threshold", ImageOptions { alpha_threshold: 0, ..o.clone() }),
@@ -314,7 +314,7 @@ fn errors() {
     ];
     for (name, options) in bad {
         match mesh_image(&full, 8, 8, &options) {
-            Err(Error::BadOption { name: n, reason }) => assert_eq!(n, name, "{reason}"),
+            Err(Error::BadOption { name: n, value: Some(_), reason }) => assert_eq!(n, name, "{reason}"),
             other => panic!("{name}: {other:?}"),
         }
     }

@@ -117,9 +117,11 @@ fn bad_outline(result: Result<Mesh, Error>) -> String {
     }
 }
 
+/// The message of an [`Error::BadOption`] for `option` (which names the offending value,
+/// if any, and the reason).
 fn bad_option(result: Result<Mesh, Error>, option: &str) -> String {
     match result {
-        Err(Error::BadOption { name, reason }) if name == option => reason,
+        Err(e @ Error::BadOption { name, .. }) if name == option => e.to_string(),
         other => panic!("expected Error::BadOption for {option}, got {other:?}"),
     }
 }
@@ -457,7 +459,9 @@ fn misplaced_holes() {
 fn bad_options() {
     let outer = square(0.0, 0.0, 1.0);
     for spacing in [0.0, -0.1, f64::NAN, f64::INFINITY] {
-        bad_option(mesh_outline(&outer, &[], &OutlineOptions::new().with_spacing(spacing)), "spacing");
+        let r =
+            bad_option(mesh_outline(&outer, &[], &OutlineOptions::new().with_spacing(spacing)), "spacing");
+        assert!(r.starts_with(&format!("option spacing: {spacing} ")), "{r}");
     }
     // Far too fine for the vertex limit.
     let r = bad_option(mesh_outline(&outer, &[], &OutlineOptions::new().with_spacing(1e-9)), "spacing");

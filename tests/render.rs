@@ -489,17 +489,20 @@ fn bad_input_is_named() {
     nan[2][1] = f64::NAN;
     assert!(matches!(
         render(&mut r, &nan, &triangles, &uvs, 4, 4, &ok),
-        Error::NonFinite { what: "positions", index: 2, value } if value.is_nan()
+        Error::NonFinite { what: "positions", index: 2, flat: 5, value } if value.is_nan()
     ));
     let mut bad_uvs = uvs.clone();
     bad_uvs[3][0] = f32::INFINITY;
     assert_eq!(
         render(&mut r, &positions, &triangles, &bad_uvs, 4, 4, &ok),
-        Error::NonFinite { what: "uvs", index: 3, value: f64::INFINITY }
+        Error::NonFinite { what: "uvs", index: 3, flat: 6, value: f64::INFINITY }
     );
     let o = RenderOptions::new().with_transform([1.0, 0.0, 0.0, f64::NAN, 0.0, 0.0]);
     let e = render(&mut r, &positions, &triangles, &uvs, 4, 4, &o);
-    assert!(matches!(&e, Error::BadOption { name: "transform", reason } if reason.contains("item 3")), "{e}");
+    assert!(
+        matches!(&e, Error::BadOption { name: "transform", value: Some(v), reason } if v.is_nan() && reason.contains("item 3")),
+        "{e}"
+    );
     let o = RenderOptions::new().with_transform([1e300, 0.0, 0.0, 1.0, 0.0, 0.0]);
     let e = render(&mut r, &positions, &triangles, &uvs, 4, 4, &o);
     assert!(matches!(e, Error::TooLarge { index: 1, limit, .. } if limit == MAX_PIXEL_COORDINATE), "{e}");

@@ -91,12 +91,11 @@ impl Default for Options {
 pub(crate) fn check_handle_weight(w: f64) -> Result<()> {
     if !(HANDLE_WEIGHT_RANGE.0..=HANDLE_WEIGHT_RANGE.1).contains(&w) {
         return Err(Error::BadOption {
-            name: "handleWeight",
-            reason: format!(
-                "{w} is outside [{:e}, {:e}] (the edge terms weigh about 1; beyond this range the normal \
-                 matrices are numerically singular)",
-                HANDLE_WEIGHT_RANGE.0, HANDLE_WEIGHT_RANGE.1
-            ),
+            name: "handle_weight",
+            value: Some(w),
+            reason: "is outside [10⁻⁴, 10⁶] (the edge terms weigh about 1; beyond this range the normal \
+                     matrices are numerically singular)"
+                .into(),
         });
     }
     Ok(())

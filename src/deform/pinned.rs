@@ -146,8 +146,14 @@ pub(crate) fn check_targets(targets: &[[f64; 2]], expected: usize) -> Result<()>
     }
     check_finite("targets", targets)?;
     for (index, t) in targets.iter().enumerate() {
-        if let Some(&value) = t.iter().find(|x| x.abs() > MAX_COORDINATE) {
-            return Err(Error::TooLarge { what: "targets", index, value, limit: MAX_COORDINATE });
+        if let Some((c, &value)) = t.iter().enumerate().find(|(_, x)| x.abs() > MAX_COORDINATE) {
+            return Err(Error::TooLarge {
+                what: "targets",
+                index,
+                flat: 2 * index + c,
+                value,
+                limit: MAX_COORDINATE,
+            });
         }
     }
     Ok(())

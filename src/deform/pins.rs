@@ -106,8 +106,8 @@ pub(crate) fn resolve_handle(rest: &RestData, k: usize, handle: &Handle) -> Resu
     let bad = |reason: String| Error::BadHandle { handle: k, reason };
     match *handle {
         Handle::Point(p) => {
-            if let Some(&value) = p.iter().find(|x| !x.is_finite()) {
-                return Err(Error::NonFinite { what: "handles", index: k, value });
+            if let Some((c, &value)) = p.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                return Err(Error::NonFinite { what: "handles", index: k, flat: 2 * k + c, value });
             }
             rest.locator.locate(mesh, p).ok_or(Error::HandleOutside { handle: k, point: p })
         }

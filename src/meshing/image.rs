@@ -100,33 +100,35 @@ impl Default for ImageOptions {
 impl ImageOptions {
     /// Checks every option's range, naming the first bad one.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name: &'static str, reason: String| Err(Error::BadOption { name, reason });
+        let bad = |name: &'static str, value: f64, reason: String| {
+            Err(Error::BadOption { name, value: Some(value), reason })
+        };
         if self.alpha_threshold == 0 {
-            return bad("alpha_threshold", "0 would make every pixel opaque; use 1 to 255".into());
+            return bad("alpha_threshold", 0.0, "would make every pixel opaque; use 1 to 255".into());
         }
         let m = self.margin;
         if !(m.is_finite() && (0.0..=MAX_MARGIN).contains(&m)) {
-            return bad("margin", format!("{m} is not in [0, {MAX_MARGIN}] pixels"));
+            return bad("margin", m, format!("is not in [0, {MAX_MARGIN}] pixels"));
         }
         if let Some(s) = self.spacing {
             if !(s.is_finite() && s > 0.0) {
-                return bad("spacing", format!("{s} is not a finite positive length in pixels"));
+                return bad("spacing", s, "is not a finite positive length in pixels".into());
             }
         }
         let a = self.min_angle_deg;
         if !(a > 0.0 && a <= MAX_MIN_ANGLE_DEG) {
-            return bad("min_angle_deg", format!("{a} is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"));
+            return bad("min_angle_deg", a, format!("is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"));
         }
         let t = self.simplify;
         if !(t.is_finite() && (0.0..=64.0).contains(&t)) {
-            return bad("simplify", format!("{t} is not in [0, 64] pixels"));
+            return bad("simplify", t, "is not in [0, 64] pixels".into());
         }
         let ma = self.min_area;
         if !(ma.is_finite() && ma >= 0.0) {
-            return bad("min_area", format!("{ma} is not a finite non-negative area in pixels"));
+            return bad("min_area", ma, "is not a finite non-negative area in pixels".into());
         }
         if self.max_vertices == Some(0) {
-            return bad("max_vertices", "0 vertices cannot make a mesh".into());
+            return bad("max_vertices", 0.0, "vertices cannot make a mesh".into());
         }
         Ok(())
     }
@@ -215,8 +217,9 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
         if budget < points + 3 * components.len() {
             return Err(Error::BadOption {
                 name: "max_vertices",
+                value: Some(budget as f64),
                 reason: format!(
-                    "{budget} is less than the {points} points of the picture's simplified contours, which are all kept"
+                    "is less than the {points} points of the picture's simplified contours, which are all kept"
                 ),
             });
         }
@@ -251,7 +254,8 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
                 if attempt >= 8 {
                     return Err(Error::BadOption {
                         name: "max_vertices",
-                        reason: format!("could not mesh the picture with at most {budget} vertices"),
+                        value: Some(budget as f64),
+                        reason: "cannot be met: the picture does not mesh with so few vertices".into(),
                     });
                 }
                 spacing *= (count as f64 / budget as f64).sqrt().max(1.1);

@@ -157,14 +157,16 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
     if !(min_angle > 0.0 && min_angle <= MAX_MIN_ANGLE_DEG) {
         return Err(Error::BadOption {
             name: "min_angle_deg",
-            reason: format!("{min_angle} is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"),
+            value: Some(min_angle),
+            reason: format!("is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"),
         });
     }
     if let Some(s) = options.spacing {
         if !(s.is_finite() && s > 0.0) {
             return Err(Error::BadOption {
                 name: "spacing",
-                reason: format!("{s} is not a finite positive length"),
+                value: Some(s),
+                reason: "is not a finite positive length".into(),
             });
         }
     }
@@ -217,8 +219,9 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
         if budget < outline_points {
             return Err(Error::BadOption {
                 name: "max_vertices",
+                value: Some(budget as f64),
                 reason: format!(
-                    "{budget} is less than the {outline_points} distinct outline points, which are all kept"
+                    "is less than the {outline_points} distinct outline points, which are all kept"
                 ),
             });
         }
@@ -233,9 +236,10 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
     if !feasible {
         return Err(Error::BadOption {
             name: "spacing",
+            value: Some(spacing * frame.scale),
             reason: format!(
-                "{} would give about {estimate:.3e} vertices, more than the limit of {VERTEX_LIMIT}",
-                spacing * frame.scale
+                "would give about {:.0} million vertices, more than the limit of {VERTEX_LIMIT}",
+                (estimate / 1e6).max(1.0)
             ),
         });
     }
@@ -284,7 +288,8 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
         if out.vertex_count > budget {
             return Err(Error::BadOption {
                 name: "max_vertices",
-                reason: format!("could not mesh the outline with at most {budget} vertices"),
+                value: Some(budget as f64),
+                reason: "cannot be met: the outline does not mesh with so few vertices".into(),
             });
         }
     }

@@ -41,11 +41,7 @@ impl ShapeMesh {
                 expected: mesh.vertices().len(),
             });
         }
-        for (index, uv) in uvs.iter().enumerate() {
-            if let Some(&v) = uv.iter().find(|v| !v.is_finite()) {
-                return Err(Error::NonFinite { what: "uvs", index, value: v as f64 });
-            }
-        }
+        crate::error::check_finite("uvs", &uvs)?;
         let boundary = boundary_loops(&mesh);
         Ok(ShapeMesh { mesh, uvs, boundary })
     }

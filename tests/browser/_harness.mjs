@@ -103,6 +103,15 @@ export const isBackground = ([r, g, b]) => Math.abs(r - 0xf1) <= 6 && Math.abs(g
 /** The stage's box in viewport CSS pixels. */
 export const stageBox = (page) => page.locator("#stage").boundingBox();
 
+/** Moves the density slider to `vertices` and lets it go, as a user does (the page
+ *  remeshes on "change"); does not wait for the remesh. */
+export const setDensity = (page, vertices) =>
+  page.locator("#density").evaluate((el, n) => {
+    el.value = String(n);
+    el.dispatchEvent(new Event("input", { bubbles: true }));
+    el.dispatchEvent(new Event("change", { bubbles: true }));
+  }, vertices);
+
 /** Drags with the mouse from `from` to `to` in `steps` moves. */
 export async function drag(page, from, to, steps = 12) {
   await page.mouse.move(from.x, from.y);
