@@ -3,8 +3,8 @@
 
 export interface ControlActions {
   openFile(file: File): void;
-  /** Returns false when the density was refused (the slider goes back). */
-  setDensity(vertices: number): boolean;
+  /** Resolves to false when the density was refused (the slider goes back). */
+  setDensity(vertices: number): Promise<boolean>;
   showWireframe(on: boolean): void;
   showPins(on: boolean): void;
   resetPose(): void;
@@ -33,12 +33,20 @@ export function attachControls(el: ControlElements, actions: ControlActions): vo
   const showDensity = () => (el.densityValue.value = el.density.value);
   showDensity();
   el.density.addEventListener("input", showDensity);
-  // Remesh when the slider is let go, not at every step on the way.
-  let density = el.density.value;
+  // Remesh when the slider is let go, not at every step on the way. A refusal puts the
+  // slider back to the last accepted value, unless it has been moved again since.
+  let accepted = el.density.value;
+  let changes = 0;
   el.density.addEventListener("change", () => {
-    if (actions.setDensity(Number(el.density.value))) density = el.density.value;
-    else el.density.value = density;
-    showDensity();
+    const value = el.density.value;
+    const change = ++changes;
+    void actions.setDensity(Number(value)).then((ok) => {
+      if (ok) accepted = value;
+      else if (change === changes) {
+        el.density.value = accepted;
+        showDensity();
+      }
+    });
   });
 
   el.wireframe.addEventListener("change", () => actions.showWireframe(el.wireframe.checked));

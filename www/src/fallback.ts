@@ -1,9 +1,19 @@
-// The Canvas 2D renderer, for browsers without WebGL2: the wasm `Renderer` (tiny-skia)
-// rasterises the textured mesh into a reused RGBA buffer, which is put on the canvas.
+// The Canvas 2D renderer, for browsers without WebGL2: the package's `Renderer` (its own
+// scan converter, in wasm on this thread) rasterises the textured mesh into a reused RGBA
+// buffer, which is put on the canvas.
 
-import { Renderer } from "../../pkg/bunraku.js";
+import init, { Renderer } from "../../pkg/bunraku.js";
 import type { PictureRenderer } from "./renderer.js";
 import type { Affine } from "./view.js";
+
+/** Loads the wasm module on this thread (the worker has its own instance) and makes the
+ *  renderer. The wasm file sits next to the bundle: esbuild does not rewrite
+ *  wasm-bindgen's own `new URL("bunraku_bg.wasm", import.meta.url)`. */
+export async function createCanvasRenderer(canvas: HTMLCanvasElement): Promise<CanvasRenderer> {
+  const renderer = new CanvasRenderer(canvas); // fails first if there is no 2D canvas either
+  await init({ module_or_path: new URL("bunraku_bg.wasm", import.meta.url) });
+  return renderer;
+}
 
 export class CanvasRenderer implements PictureRenderer {
   readonly name = "Canvas 2D";

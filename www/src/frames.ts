@@ -1,14 +1,24 @@
-// Frames: at most one solve and one draw per animation frame however many pointer events
-// arrive (requests coalesce into one requestAnimationFrame), and the timings the page
-// shows (solve time, frames per second) and the benchmark reads.
+// Frames: at most one draw per animation frame however many pointer events and solves
+// arrive (requests coalesce into one requestAnimationFrame), and the frame records the
+// page's frame rate and the benchmark read.
+
+/** A solve that came back from the worker, as the frame that draws it records it. */
+export interface SolveStamp {
+  /** Puppet.updateInto, in the worker (ms). */
+  readonly solveMs: number;
+  /** From posting the update to receiving its positions, on the page (ms). */
+  readonly roundTripMs: number;
+}
 
 /** One drawn frame. */
 export interface FrameRecord {
   /** The requestAnimationFrame timestamp (ms). */
   readonly time: number;
-  /** Puppet.updateInto (ms); NaN when the frame only redrew. */
+  /** The solve this frame drew first (ms); NaN when the frame only redrew. */
   readonly solveMs: number;
-  /** The whole frame callback: solve, conversion, draw calls, overlay (ms). */
+  /** Its round trip to the worker (ms); NaN when the frame only redrew. */
+  readonly roundTripMs: number;
+  /** The whole frame callback on the page: conversion, upload, draw calls, overlay (ms). */
   readonly workMs: number;
 }
 
@@ -20,8 +30,8 @@ export class FrameLoop {
   private waiting: (() => void)[] = [];
   private readonly records: FrameRecord[] = [];
 
-  /** `frame()` draws one frame and returns its solve time (NaN when it did not solve). */
-  constructor(private readonly frame: () => number) {}
+  /** `frame()` draws one frame and returns the solve it shows first, or null. */
+  constructor(private readonly frame: () => SolveStamp | null) {}
 
   /** Asks for a frame; requests made before it runs are one frame. */
   request(): void {
@@ -37,6 +47,11 @@ export class FrameLoop {
     if (this.pending) cancelAnimationFrame(this.pending);
     this.pending = 0;
     this.run(performance.now());
+  }
+
+  /** Whether a frame is requested and not drawn yet. */
+  get isPending(): boolean {
+    return this.pending !== 0;
   }
 
   /** Resolves once no frame is pending (after the pending one, if any, has been drawn). */
@@ -62,19 +77,11 @@ export class FrameLoop {
     return span > 0 ? ((recent.length - 1) * 1000) / span : null;
   }
 
-  /** The latest solve time (ms), or null before the first solve. */
-  lastSolveMs(): number | null {
-    for (let k = this.records.length - 1; k >= 0; k--) {
-      if (!Number.isNaN(this.records[k].solveMs)) return this.records[k].solveMs;
-    }
-    return null;
-  }
-
   private run(time: number): void {
     const t0 = performance.now();
     try {
-      const solveMs = this.frame();
-      this.records.push({ time, solveMs, workMs: performance.now() - t0 });
+      const solve = this.frame();
+      this.records.push({ time, solveMs: solve?.solveMs ?? NaN, roundTripMs: solve?.roundTripMs ?? NaN, workMs: performance.now() - t0 });
       if (this.records.length > KEEP) this.records.splice(0, this.records.length - KEEP);
     } finally {
       const waiting = this.waiting;

@@ -1,9 +1,12 @@
-// A read-only window on the page for the end-to-end tests and the frame benchmark
-// (tests/browser/, benches/browser.mjs): where the pins and the picture are on screen, the
-// mesh size, the frame records, and a way to wait for the pending frame. Input still goes
-// through real pointer events.
+// A window on the page for the end-to-end tests and the frame benchmark (tests/browser/,
+// benches/browser.mjs): where the pins and the picture are on screen, the mesh size, the
+// frame records, what the worker is busy with, and a way to wait until everything asked
+// for is solved and drawn. Input still goes through real pointer events. Only the test
+// build (www/dist-test/) has it: main.ts calls it behind __TEST__, so the page users get
+// (www/dist/) carries none of this.
 
 import type { App } from "./app.js";
+import type { PuppetWorker } from "./client.js";
 import type { FrameRecord } from "./frames.js";
 
 export interface DemoHook {
@@ -15,11 +18,17 @@ export interface DemoHook {
   toClient(x: number, y: number): [number, number];
   picture(): { name: string; width: number; height: number } | null;
   mesh(): { vertices: number; triangles: number } | null;
-  /** The recent frames (time, solve and frame-callback durations), oldest first. */
+  /** The recent frames (time, solve, round trip and frame-callback durations), oldest first. */
   frames(): FrameRecord[];
   clearFrames(): void;
-  /** Resolves once the pending frame, if any, has been drawn. */
+  /** Requests in flight to the worker (opens, compiles, updates), and whether targets
+   *  wait to be sent. */
+  pending(): { opens: number; compiles: number; updates: number; dirty: boolean };
+  /** Resolves once every open, compile and solve asked for has come back from the worker
+   *  and the newest pose has been drawn. */
   settled(): Promise<void>;
+  /** Makes the worker fail as a wasm panic would (the page must start a new one). */
+  crashWorker(): void;
 }
 
 declare global {
@@ -28,7 +37,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -52,6 +61,8 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string): void
     },
     frames: () => app.frames.history(),
     clearFrames: () => app.frames.clearHistory(),
-    settled: () => app.frames.settled(),
+    pending: () => app.pending(),
+    settled: () => app.settled(),
+    crashWorker: () => void worker.call("crash", null),
   };
 }

@@ -1,8 +1,9 @@
-// The demo page: loads the wasm module and the default puppet in parallel, picks a
-// renderer, and wires the stage, the toolbar and the status panel to the app.
+// The demo page: starts the puppet's worker (it loads the wasm module) and the default
+// puppet's download at once, picks a renderer, and wires the stage, the toolbar and the
+// status panel to the app.
 
-import init from "../../pkg/bunraku.js";
 import { App } from "./app.js";
+import { PuppetWorker } from "./client.js";
 import { attachControls, download } from "./controls.js";
 import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
@@ -18,23 +19,25 @@ function element<T extends HTMLElement>(id: string, type: new () => T): T {
 }
 
 async function main(status: Status): Promise<void> {
-  // Both downloads start at once. The wasm file sits next to this bundle (esbuild does
-  // not rewrite wasm-bindgen's own `new URL("bunraku_bg.wasm", import.meta.url)`).
-  const wasm = init({ module_or_path: new URL("bunraku_bg.wasm", import.meta.url) });
+  let app: App | null = null;
+  // The worker bundle sits next to this one (www/build.mjs builds both).
+  const worker = new PuppetWorker(new URL("worker.js", import.meta.url), (error) => app?.workerCrashed(error));
   const firstPicture = pictureFromURL(DEFAULT_PUPPET.url, DEFAULT_PUPPET.name);
+  // openPicture reports a failed download; until it is called, the rejection is not
+  // "unhandled".
+  firstPicture.catch(() => {});
 
   const stage = element("stage", HTMLCanvasElement);
   const wrap = element("stage-wrap", HTMLElement);
   const density = element("density", HTMLInputElement);
   const choice = new URLSearchParams(location.search).get("renderer") === "2d" ? "2d" : "auto";
-  await wasm;
-  let app: App | null = null;
-  const renderer = createRenderer(stage, choice, (lost) => app?.contextLost(lost));
+  const renderer = await createRenderer(stage, choice, (lost) => app?.contextLost(lost));
   app = new App({
     stage,
     renderer,
     overlay: new Overlay(element("overlay", HTMLCanvasElement)),
     status,
+    worker,
     density: Number(density.value),
   });
   const theApp = app;
@@ -61,7 +64,7 @@ async function main(status: Status): Promise<void> {
     {
       openFile: (file) => {
         status.info(`reading ${file.name}…`);
-        pictureFromFile(file).then((p) => theApp.loadPicture(p), (e) => status.error(e));
+        void theApp.openPicture(pictureFromFile(file));
       },
       setDensity: (n) => theApp.setDensity(n),
       showWireframe: (on) => theApp.showWireframe(on),
@@ -73,8 +76,9 @@ async function main(status: Status): Promise<void> {
       },
     },
   );
-  exposeHook(theApp, stage, renderer.name);
-  theApp.loadPicture(await firstPicture, DEFAULT_PUPPET.pins);
+  // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker);
+  await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 
 const status = new Status({

@@ -18,7 +18,7 @@ export const PIN_RADIUS = 7;
 
 export class Overlay {
   private readonly ctx: CanvasRenderingContext2D;
-  private edges = new Uint32Array(0); // each mesh edge once: [a0, b0, a1, b1, …]
+  private edges: Uint32Array = new Uint32Array(0); // each mesh edge once: [a0, b0, a1, b1, …]
   private dpr = 1;
 
   constructor(private readonly canvas: HTMLCanvasElement) {
@@ -27,23 +27,9 @@ export class Overlay {
     this.ctx = ctx;
   }
 
-  /** Takes the mesh's edges from its triangles. */
-  setMesh(triangles: Uint32Array): void {
-    const seen = new Set<number>();
-    const edges: number[] = [];
-    let n = 0;
-    for (const v of triangles) n = Math.max(n, v + 1);
-    for (let t = 0; t < triangles.length; t += 3) {
-      for (let k = 0; k < 3; k++) {
-        const a = triangles[t + k], b = triangles[t + ((k + 1) % 3)];
-        const key = Math.min(a, b) * n + Math.max(a, b);
-        if (!seen.has(key)) {
-          seen.add(key);
-          edges.push(a, b);
-        }
-      }
-    }
-    this.edges = Uint32Array.from(edges);
+  /** The mesh's edges, each once: `[a0, b0, a1, b1, …]` (edges.ts). */
+  setEdges(edges: Uint32Array): void {
+    this.edges = edges;
   }
 
   /** Sizes the canvas: `width` × `height` device pixels, `dpr` of them per CSS pixel. */

@@ -1,10 +1,10 @@
 // Drawing the textured mesh on the stage canvas: what a renderer does, and which one the
 // browser gets — WebGL2 when the canvas gives a WebGL2 context, else Canvas 2D with the
-// wasm rasteriser (tiny-skia).
+// package's `Renderer` (the library's own scan converter, src/render.rs, in wasm).
 
 import type { Affine } from "./view.js";
 import { createGLRenderer } from "./gl.js";
-import { CanvasRenderer } from "./fallback.js";
+import { createCanvasRenderer } from "./fallback.js";
 
 export interface PictureRenderer {
   /** "WebGL2" or "Canvas 2D", shown on the page. */
@@ -25,12 +25,13 @@ export interface PictureRenderer {
 export type RendererChoice = "auto" | "2d";
 
 /** WebGL2 unless `choice` is "2d" (the page's `?renderer=2d`) or the canvas has no WebGL2
- *  context (old browsers, disabled GPU features): then Canvas 2D. `onLost` is told when
- *  the GPU context is lost and when it comes back. */
-export function createRenderer(canvas: HTMLCanvasElement, choice: RendererChoice, onLost: (lost: boolean) => void): PictureRenderer {
+ *  context (old browsers, disabled GPU features): then Canvas 2D, which loads the wasm
+ *  module on this thread (WebGL2 needs none here: the puppets live in the worker).
+ *  `onLost` is told when the GPU context is lost and when it comes back. */
+export async function createRenderer(canvas: HTMLCanvasElement, choice: RendererChoice, onLost: (lost: boolean) => void): Promise<PictureRenderer> {
   if (choice !== "2d") {
     const gl = createGLRenderer(canvas, onLost);
     if (gl) return gl;
   }
-  return new CanvasRenderer(canvas);
+  return createCanvasRenderer(canvas);
 }

@@ -1,14 +1,24 @@
-// A picture made into a puppet: its mesh (Mesh.fromImage), the registered Puppet, the
-// pins (rest points, compiled once per pin set) and their targets (moved every frame),
-// and the current vertex positions (Puppet.updateInto, into one reused array).
+// A picture made into a puppet, as the page sees it: the mesh the worker made of it, the
+// pins (the ids the pointer follows, rest points, targets) and the pose on screen. The
+// puppet itself lives in the worker, one per generation; the page changes the pin set
+// optimistically (a new pin can be dragged at once) and goes back to the last set the
+// worker compiled when a compile is refused.
 
-import { Mesh, Puppet } from "../../pkg/bunraku.js";
+import type { OpenResult } from "./protocol.js";
+import type { Picture } from "./picture.js";
 import { toRest } from "./locate.js";
 
 export type Point = [number, number];
 
-/** Pin ids are unique across rigs, so that a drag never follows a pin of an older picture. */
+/** Pin ids are unique across rigs, so that a drag never follows a pin of an older picture;
+ *  pin-set versions too, so that the worker never matches targets with another set. */
 let nextPinId = 1;
+let nextVersion = 1;
+
+/** A version for a pin set about to be sent to the worker. */
+export function newVersion(): number {
+  return nextVersion++;
+}
 
 /** A pin: where it holds the rest shape, and where it is dragged to. Ids stay the same
  *  while other pins come and go, so a drag can follow its pin. */
@@ -19,41 +29,45 @@ export interface Pin {
 }
 
 export class Rig {
+  /** The open or remesh that made it: the worker's puppet of the same generation. */
+  readonly generation: number;
+  readonly picture: Picture;
   /** The rest vertices `[x0, y0, …]`, in picture pixels. */
   readonly rest: Float64Array;
   /** Counter-clockwise triangles `[a0, b0, c0, …]`. */
   readonly triangles: Uint32Array;
   /** Texture coordinates `[u0, v0, …]`, one pair per vertex. */
   readonly uvs: Float32Array;
-  /** The vertex positions of the current pose, updated in place by `solve`. */
-  readonly positions: Float64Array;
+  /** Each edge once, `[a0, b0, …]`. */
+  readonly edges: Uint32Array;
+  /** The pose on screen: the newest positions the worker sent back. */
+  positions: Float64Array;
 
-  private pinList: Pin[] = [];
-  private targets = new Float64Array(0);
+  /** The newest pin set and its version (possibly not compiled yet). */
+  private pinList: Pin[];
+  private pinVersion: number;
+  /** The targets of `pinList`, `[x0, y0, …]`, kept up to date for every update. */
+  private targetList: Float64Array;
+  /** The last set the worker compiled, and the sets sent since. */
+  private confirmed: { version: number; pins: Pin[] };
+  private readonly proposed = new Map<number, Pin[]>();
 
-  private constructor(
-    private readonly mesh: Mesh,
-    private readonly puppet: Puppet,
-  ) {
-    this.rest = puppet.vertices;
-    this.triangles = puppet.triangles;
-    this.uvs = mesh.uvs;
-    this.positions = new Float64Array(this.rest);
-  }
-
-  /** Meshes the opaque part of a picture with about `vertexBudget` vertices and registers
-   *  it. Throws the library's error (e.g. a picture with nothing opaque). */
-  static fromPicture(pixels: ImageData, vertexBudget: number): Rig {
-    // A spacing of 2 px is only a floor: the vertex budget sets the spacing (a picture too
-    // small for the budget gets fewer vertices).
-    const mesh = Mesh.fromImage(pixels.data, pixels.width, pixels.height, { spacing: 2, maxVertices: vertexBudget });
-    try {
-      // Cotangent weights suit meshes refined near sharp corners (the picture's outline).
-      return new Rig(mesh, Puppet.register(mesh.vertices, mesh.triangles, { weights: "cotangent" }));
-    } catch (e) {
-      mesh.free();
-      throw e;
+  constructor(picture: Picture, opened: OpenResult) {
+    this.generation = opened.generation;
+    this.picture = picture;
+    this.rest = opened.rest;
+    this.triangles = opened.triangles;
+    this.uvs = opened.uvs;
+    this.edges = opened.edges;
+    this.positions = opened.positions;
+    const pins: Pin[] = [];
+    for (let k = 0; 2 * k < opened.rests.length; k++) {
+      pins.push({ id: nextPinId++, rest: [opened.rests[2 * k], opened.rests[2 * k + 1]], target: [opened.targets[2 * k], opened.targets[2 * k + 1]] });
     }
+    this.pinList = pins;
+    this.pinVersion = opened.version;
+    this.targetList = opened.targets.slice();
+    this.confirmed = { version: opened.version, pins };
   }
 
   get vertexCount(): number {
@@ -68,43 +82,68 @@ export class Rig {
     return this.pinList;
   }
 
+  /** The version of `pins`. */
+  get version(): number {
+    return this.pinVersion;
+  }
+
+  /** The pins' targets in handle order, for an update. */
+  get targets(): Float64Array {
+    return this.targetList;
+  }
+
   pin(id: number): Pin | undefined {
     return this.pinList.find((p) => p.id === id);
   }
 
-  /** Replaces the pin set: rest points and, optionally, their targets (default: the rest
-   *  points). Compiles it; on error (a pin off the shape, two at the same point) throws and
-   *  keeps the previous pins. */
-  setPins(rests: readonly Point[], targets?: readonly Point[]): void {
-    const pins = rests.map((rest, k) => ({ id: nextPinId + k, rest: [...rest] as Point, target: [...(targets?.[k] ?? rest)] as Point }));
-    this.compile(pins);
-    nextPinId += pins.length;
+  /** The rest points and targets `[x0, y0, …]` of the pins, for a remesh that keeps them. */
+  pinArrays(): { rests: Float64Array; targets: Float64Array } {
+    return { rests: Float64Array.from(this.pinList.flatMap((p) => p.rest)), targets: this.targetList.slice() };
   }
 
-  /** Adds a pin at `(x, y)` on the shape as it is drawn now (picture pixels), holding the
-   *  rest point that is drawn there. Throws when no part of the shape is there. */
-  addPinAt(x: number, y: number): Pin {
-    const rest = toRest(this.positions, this.rest, this.triangles, x, y);
-    if (!rest) throw new Error(`no pin added: (${x.toFixed(1)}, ${y.toFixed(1)}) is not on the shape`);
-    const pin: Pin = { id: nextPinId, rest, target: [x, y] };
-    this.compile([...this.pinList, pin]);
-    nextPinId++;
-    return pin;
+  /** The rest point drawn at `(x, y)` (picture pixels, the shape as it is on screen), or
+   *  null when no part of the shape is there. */
+  restPointAt(x: number, y: number): Point | null {
+    return toRest(this.positions, this.rest, this.triangles, x, y);
   }
 
-  /** Removes a pin (recompiles the others). */
-  removePin(id: number): void {
-    const pins = this.pinList.filter((p) => p.id !== id);
-    if (pins.length !== this.pinList.length) this.compile(pins);
+  /** A new pin (not in the set until `propose`d). */
+  newPin(rest: Point, target: Point): Pin {
+    return { id: nextPinId++, rest: [...rest], target: [...target] };
   }
 
-  /** Moves a pin's target; takes effect at the next `solve`. */
+  /** Makes `pins` the set, as `version`; returns its handles for the worker's compile. */
+  propose(pins: Pin[], version: number): Float64Array {
+    this.proposed.set(version, pins);
+    this.setList(pins, version);
+    return Float64Array.from(pins.flatMap((p) => p.rest));
+  }
+
+  /** The worker compiled `version`. */
+  confirm(version: number): void {
+    const pins = this.proposed.get(version);
+    if (!pins) return;
+    this.confirmed = { version, pins };
+    for (const v of this.proposed.keys()) if (v <= version) this.proposed.delete(v);
+  }
+
+  /** The worker refused `version` and kept its previous set. When that was the newest
+   *  set, the pins go back to the last compiled one (moved where they were dragged since)
+   *  and this returns true. */
+  reject(version: number): boolean {
+    this.proposed.delete(version);
+    if (version !== this.pinVersion) return false;
+    this.setList(this.confirmed.pins, this.confirmed.version);
+    return true;
+  }
+
+  /** Moves a pin's target; takes effect at the next update. */
   moveTarget(id: number, x: number, y: number): void {
     const k = this.pinList.findIndex((p) => p.id === id);
     if (k < 0) return;
     this.pinList[k].target = [x, y];
-    this.targets[2 * k] = x;
-    this.targets[2 * k + 1] = y;
+    this.targetList[2 * k] = x;
+    this.targetList[2 * k + 1] = y;
   }
 
   /** Puts every pin's target back on its rest point. */
@@ -112,26 +151,9 @@ export class Rig {
     this.pinList.forEach((p) => this.moveTarget(p.id, p.rest[0], p.rest[1]));
   }
 
-  /** Solves the pose for the current targets into `positions` (no allocation). */
-  solve(): void {
-    this.puppet.updateInto(this.targets, this.positions);
-  }
-
-  /** Frees the wasm memory of the mesh and the puppet. */
-  free(): void {
-    this.puppet.free();
-    this.mesh.free();
-  }
-
-  private compile(pins: Pin[]): void {
-    const handles = new Float64Array(2 * pins.length);
-    const targets = new Float64Array(2 * pins.length);
-    pins.forEach((p, k) => {
-      handles.set(p.rest, 2 * k);
-      targets.set(p.target, 2 * k);
-    });
-    this.puppet.compile(handles); // throws, naming the pin, and keeps the previous set
+  private setList(pins: Pin[], version: number): void {
     this.pinList = pins;
-    this.targets = targets;
+    this.pinVersion = version;
+    this.targetList = Float64Array.from(pins.flatMap((p) => p.target));
   }
 }

@@ -19,10 +19,13 @@ export class Status {
 
   constructor(private readonly el: StatusElements) {}
 
-  /** Shows an error (a thrown value of any kind) until the next message. */
+  /** Shows an error (a thrown value of any kind) until the next message; the library's
+   *  error code, when it has one, goes into the message's `data-code`. */
   error(error: unknown, context?: string): void {
     const text = error instanceof Error ? error.message : String(error);
     this.say(context ? `${context}: ${text}` : text, "error");
+    const code: unknown = error instanceof Error ? Reflect.get(error, "code") : undefined;
+    if (typeof code === "string" || typeof code === "number") this.el.message.dataset.code = String(code);
   }
 
   info(text: string): void {
@@ -69,6 +72,7 @@ export class Status {
   private say(text: string, kind: "error" | "info"): void {
     this.el.message.textContent = text;
     this.el.message.dataset.kind = kind;
+    delete this.el.message.dataset.code;
     this.el.message.hidden = text === "";
   }
 }
