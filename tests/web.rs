@@ -1,9 +1,13 @@
 //! The wasm API end to end, run by `wasm-pack test --node`.
 #![cfg(target_arch = "wasm32")]
 
+#[path = "common/js.rs"]
+mod js;
+
 use bunraku::wasm::Puppet;
-use js_sys::{Float64Array, Object, Reflect};
-use wasm_bindgen::{JsCast, JsValue};
+use js::{f64s, failure, message, object as options, u32s};
+use js_sys::Float64Array;
+use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
 /// A 4×3 grid of unit squares, two triangles each.
@@ -25,34 +29,16 @@ fn grid() -> (Vec<f64>, Vec<u32>) {
     (v, t)
 }
 
-fn message(e: wasm_bindgen::JsError) -> String {
-    let v: JsValue = e.into();
-    let err: &js_sys::Error = v.dyn_ref().expect("a JS Error");
-    err.message().into()
-}
-
-fn f64s(v: &[f64]) -> JsValue {
-    Float64Array::from(v).into()
-}
-
-fn options(pairs: &[(&str, JsValue)]) -> JsValue {
-    let o = Object::new();
-    for (k, v) in pairs {
-        Reflect::set(&o, &(*k).into(), v).unwrap();
-    }
-    o.into()
-}
-
 #[wasm_bindgen_test]
 fn register_compile_update_rigid() {
     let (v, t) = grid();
     for weights in ["uniform", "cotangent"] {
-        let mut p = Puppet::register(&v, &t, options(&[("weights", weights.into())])).unwrap();
+        let mut p = Puppet::register(f64s(&v), u32s(&t), options(&[("weights", weights.into())])).unwrap();
         assert_eq!(p.vertex_count(), 20);
         assert_eq!(p.triangle_count(), 24);
         assert_eq!(p.weights(), weights);
         let handles = [0.5, 0.5, 3.5, 0.5, 2.0, 2.5];
-        p.compile(&handles).unwrap();
+        p.compile(f64s(&handles)).unwrap();
         assert_eq!(p.handle_count(), 3);
         assert_eq!(p.handles().to_vec(), handles.to_vec());
         // A rotation by 90° and a translation far from the origin.
@@ -66,7 +52,7 @@ fn register_compile_update_rigid() {
         }
         // updateInto writes the same numbers into the caller's array.
         let buf = Float64Array::new_with_length(40);
-        p.update_into(f64s(&targets), &buf).unwrap();
+        p.update_into(f64s(&targets), buf.clone().into()).unwrap();
         assert_eq!(buf.to_vec(), out);
         assert_eq!(p.positions().to_vec(), out);
     }
@@ -75,9 +61,9 @@ fn register_compile_update_rigid() {
 #[wasm_bindgen_test]
 fn untouched_handles_return_rest_and_uncompiled_is_rest() {
     let (v, t) = grid();
-    let mut p = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
+    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
     assert_eq!(p.update(f64s(&[])).unwrap().to_vec(), v);
-    p.compile(&[0.2, 0.2, 3.9, 2.9]).unwrap();
+    p.compile(f64s(&[0.2, 0.2, 3.9, 2.9])).unwrap();
     let out = p.update(p.handles().into()).unwrap().to_vec();
     for (a, b) in out.iter().zip(&v) {
         assert!((a - b).abs() < 1e-9);
@@ -89,50 +75,67 @@ fn bad_register_input_names_the_item() {
     let (v, t) = grid();
     let mut bad = v.clone();
     bad[7] = f64::NAN;
-    let e = message(Puppet::register(&bad, &t, JsValue::UNDEFINED).err().unwrap());
-    assert!(e.contains("item 3") && e.contains("NaN"), "{e}");
+    let e = failure(Puppet::register(f64s(&bad), u32s(&t), JsValue::UNDEFINED).err().unwrap());
+    assert_eq!(e.code, "non-finite");
+    assert_eq!(e.message, "vertices: item 3 has a non-finite coordinate (NaN)");
+    // The index in the flat array passed, and the point's.
+    assert_eq!((e.number("index"), e.number("item")), (Some(7.0), Some(3.0)));
+    bad[7] = f64::INFINITY;
+    let e = message(Puppet::register(f64s(&bad), u32s(&t), JsValue::UNDEFINED).err().unwrap());
+    assert!(e.ends_with("(Infinity)"), "{e}");
     let mut bad = t.clone();
     bad[5] = 99;
-    let e = message(Puppet::register(&v, &bad, JsValue::UNDEFINED).err().unwrap());
+    let e = message(Puppet::register(f64s(&v), u32s(&bad), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("triangle 1") && e.contains("99"), "{e}");
-    let e = message(Puppet::register(&v[..39], &t, JsValue::UNDEFINED).err().unwrap());
+    let e = message(Puppet::register(f64s(&v[..39]), u32s(&t), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("vertices") && e.contains("39"), "{e}");
-    let e = message(Puppet::register(&v, &t[..70], JsValue::UNDEFINED).err().unwrap());
+    let e = message(Puppet::register(f64s(&v), u32s(&t[..70]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("triangles") && e.contains("70"), "{e}");
-    let e = message(Puppet::register(&v, &t, options(&[("handleWeight", (-1.0).into())])).err().unwrap());
+    let e = message(
+        Puppet::register(f64s(&v), u32s(&t), options(&[("handleWeight", (-1.0).into())])).err().unwrap(),
+    );
     assert!(e.contains("handleWeight") && e.contains("-1"), "{e}");
-    let e = message(Puppet::register(&v, &t, options(&[("weights", "harmonic".into())])).err().unwrap());
+    let e = message(
+        Puppet::register(f64s(&v), u32s(&t), options(&[("weights", "harmonic".into())])).err().unwrap(),
+    );
     assert!(e.contains("harmonic"), "{e}");
-    let e = message(Puppet::register(&v, &t, options(&[("handleWieght", 5.0.into())])).err().unwrap());
+    let e = message(
+        Puppet::register(f64s(&v), u32s(&t), options(&[("handleWieght", 5.0.into())])).err().unwrap(),
+    );
     assert!(e.contains("handleWieght"), "{e}");
 }
 
 #[wasm_bindgen_test]
 fn failed_calls_leave_the_puppet_as_it_was() {
     let (v, t) = grid();
-    let mut p = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
-    p.compile(&[0.5, 0.5, 3.5, 2.5]).unwrap();
+    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
     let targets = f64s(&[0.0, 0.0, 4.0, 3.0]);
     let before = p.update(targets.clone()).unwrap().to_vec();
 
-    let e = message(p.compile(&[0.5, 0.5, 9.0, 9.0]).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 9.0, 9.0])).err().unwrap());
     assert!(e.contains("handle 1") && e.contains("outside"), "{e}");
-    let e = message(p.compile(&[0.5, 0.5, 0.5, 0.5]).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5, 0.5])).err().unwrap());
     assert!(e.contains("handles 0 and 1"), "{e}");
-    let e = message(p.compile(&[0.5, 0.5, 0.5]).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5])).err().unwrap());
     assert!(e.contains("handles") && e.contains('3'), "{e}");
-    let e = message(p.compile(&[0.5, f64::INFINITY]).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, f64::INFINITY])).err().unwrap());
     assert!(e.contains("handle"), "{e}");
-    let e = message(p.compile_vertices(&[0, 20]).err().unwrap());
+    let e = message(p.compile_vertices(u32s(&[0, 20])).err().unwrap());
     assert!(e.contains("handle 1") && e.contains("20"), "{e}");
 
     let e = message(p.update(f64s(&[0.0, 0.0])).err().unwrap());
     assert!(e.contains("targets") && e.contains("got 2") && e.contains("expected 4"), "{e}");
     let e = message(p.update(f64s(&[0.0, 0.0, f64::NAN, 3.0])).err().unwrap());
     assert!(e.contains("item 1"), "{e}");
-    let e = message(p.update(JsValue::from_str("nope")).err().unwrap());
-    assert!(e.contains("Float64Array"), "{e}");
-    let e = message(p.update_into(targets.clone(), &Float64Array::new_with_length(3)).err().unwrap());
+    let e = failure(p.update(JsValue::from_str("nope")).err().unwrap());
+    assert_eq!(
+        (e.code.as_str(), e.message.as_str()),
+        ("bad-type", "targets: expected a Float64Array, got string")
+    );
+    let e = failure(p.update_into(targets.clone(), js_sys::Array::new().into()).err().unwrap());
+    assert_eq!(e.message, "out: expected a Float64Array, got Array");
+    let e = message(p.update_into(targets.clone(), Float64Array::new_with_length(3).into()).err().unwrap());
     assert!(e.contains("output length") && e.contains("got 3"), "{e}");
 
     assert_eq!(p.handle_count(), 2);
@@ -142,10 +145,51 @@ fn failed_calls_leave_the_puppet_as_it_was() {
 #[wasm_bindgen_test]
 fn vertex_handles_equal_point_handles_on_vertices() {
     let (v, t) = grid();
-    let mut a = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
-    let mut b = Puppet::register(&v, &t, JsValue::UNDEFINED).unwrap();
-    a.compile_vertices(&[0, 19, 7]).unwrap();
-    b.compile(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0]).unwrap();
+    let mut a = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    let mut b = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    a.compile_vertices(u32s(&[0, 19, 7])).unwrap();
+    b.compile(f64s(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0])).unwrap();
     let targets = f64s(&[-1.0, 0.0, 5.0, 4.0, 2.5, 0.5]);
     assert_eq!(a.update(targets.clone()).unwrap().to_vec(), b.update(targets).unwrap().to_vec());
+}
+
+#[wasm_bindgen_test]
+fn errors_speak_javascript() {
+    let (v, t) = grid();
+    // Numbers as JS prints them.
+    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
+    let e = failure(p.update(f64s(&[0.0, 0.0, 4.0, -2e100])).err().unwrap());
+    assert_eq!(e.code, "too-large");
+    assert_eq!(e.message, "targets: item 1 has a coordinate -2e+100 beyond ±1e+100");
+    assert_eq!((e.number("index"), e.number("item"), e.number("limit")), (Some(3.0), Some(1.0), Some(1e100)));
+    // Options as JS spells them.
+    let e = failure(
+        Puppet::register(f64s(&v), u32s(&t), options(&[("handleWeight", 1e-5.into())])).err().unwrap(),
+    );
+    assert_eq!(e.code, "bad-option");
+    assert!(e.message.starts_with("option handleWeight: 0.00001 is outside"), "{}", e.message);
+    assert_eq!(js::get(&e.error, "option").as_string().as_deref(), Some("handleWeight"));
+    let e = failure(
+        Puppet::register(f64s(&v), u32s(&t), options(&[("handleWeight", "5".into())])).err().unwrap(),
+    );
+    assert_eq!(
+        (e.code.as_str(), e.message.as_str()),
+        ("bad-option", "option handleWeight: expected a number, got string")
+    );
+    let e = failure(Puppet::register(JsValue::UNDEFINED, u32s(&t), JsValue::UNDEFINED).err().unwrap());
+    assert_eq!(
+        (e.code.as_str(), e.message.as_str()),
+        ("bad-type", "vertices: expected a Float64Array, got undefined")
+    );
+    let e = failure(Puppet::register(f64s(&v), u32s(&t), JsValue::from(3)).err().unwrap());
+    assert_eq!(
+        (e.code.as_str(), e.message.as_str()),
+        ("bad-type", "options: expected an object, got number")
+    );
+    let e = failure(Puppet::register(f64s(&v[..39]), u32s(&t), JsValue::UNDEFINED).err().unwrap());
+    assert_eq!(
+        (e.code.as_str(), e.number("length"), e.number("multipleOf")),
+        ("bad-length", Some(39.0), Some(2.0))
+    );
 }

@@ -2,24 +2,14 @@
 //! `toJSON`, `uvs`, `boundary`), run by `wasm-pack test --node`.
 #![cfg(target_arch = "wasm32")]
 
+#[path = "common/js.rs"]
+mod js;
+
 use bunraku::wasm::{JsMesh as Mesh, Puppet};
-use js_sys::{Object, Reflect, Uint8Array, Uint8ClampedArray};
-use wasm_bindgen::{JsCast, JsValue};
+use js::{f64s, failure, message, object as options};
+use js_sys::{Uint8Array, Uint8ClampedArray};
+use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
-
-fn message(e: wasm_bindgen::JsError) -> String {
-    let v: JsValue = e.into();
-    let err: &js_sys::Error = v.dyn_ref().expect("a JS Error");
-    err.message().into()
-}
-
-fn options(pairs: &[(&str, JsValue)]) -> JsValue {
-    let o = Object::new();
-    for (k, v) in pairs {
-        Reflect::set(&o, &(*k).into(), v).unwrap();
-    }
-    o.into()
-}
 
 /// A 64×48 picture with an opaque disc of radius 18.
 fn disc_picture() -> Vec<u8> {
@@ -51,8 +41,8 @@ fn from_image_feeds_register() {
         let uvs = mesh.uvs().to_vec();
         let v = mesh.vertices().to_vec();
         assert!((uvs[0] as f64 - v[0] / 64.0).abs() < 1e-6 && (uvs[1] as f64 - v[1] / 48.0).abs() < 1e-6);
-        let mut p = Puppet::register(&v, &mesh.triangles().to_vec(), JsValue::UNDEFINED).unwrap();
-        p.compile(&[30.0, 24.0, 40.0, 24.0]).unwrap();
+        let mut p = Puppet::register(f64s(&v), mesh.triangles().into(), JsValue::UNDEFINED).unwrap();
+        p.compile(f64s(&[30.0, 24.0, 40.0, 24.0])).unwrap();
     }
 }
 
@@ -79,7 +69,14 @@ fn from_image_errors() {
         .err()
         .unwrap(),
     );
-    assert!(m.contains("alphaThreshold"), "{m}");
+    assert!(m.contains("alphaThreshold") && m.contains("300"), "{m}");
+    let e = failure(
+        Mesh::from_image(Uint8Array::from(&rgba[..]).into(), 64, 48, options(&[("minAngle", 50.into())]))
+            .err()
+            .unwrap(),
+    );
+    assert_eq!(e.code, "bad-option");
+    assert!(e.message.starts_with("option minAngle: 50 is not in (0, 33]"), "{}", e.message);
     let m = message(Mesh::from_image(JsValue::from(3), 64, 48, JsValue::UNDEFINED).err().unwrap());
     assert!(m.contains("Uint8Array"), "{m}");
     let m = message(
@@ -92,9 +89,12 @@ fn from_image_errors() {
 
 #[wasm_bindgen_test]
 fn json_and_obj() {
-    let mesh =
-        Mesh::from_outline(&[0.0, 0.0, 4.0, 0.0, 4.0, 2.0, 0.0, 2.0], JsValue::UNDEFINED, JsValue::UNDEFINED)
-            .unwrap();
+    let mesh = Mesh::from_outline(
+        f64s(&[0.0, 0.0, 4.0, 0.0, 4.0, 2.0, 0.0, 2.0]),
+        JsValue::UNDEFINED,
+        JsValue::UNDEFINED,
+    )
+    .unwrap();
     assert_eq!(mesh.uvs().length(), 2 * mesh.vertex_count() as u32);
     let json = mesh.to_json().unwrap();
     let text = js_sys::JSON::stringify(&json).unwrap().as_string().unwrap();
@@ -105,8 +105,11 @@ fn json_and_obj() {
     }
     let m = message(Mesh::from_json(JsValue::from("{")).err().unwrap());
     assert!(m.starts_with("mesh JSON"), "{m}");
-    let obj = Mesh::from_obj("v 0 0\nv 1 0\nv 1 1\nv 0 1\nf 1 2 3 4\n").unwrap();
+    let obj = Mesh::from_obj("v 0 0\nv 1 0\nv 1 1\nv 0 1\nf 1 2 3 4\n".into()).unwrap();
     assert_eq!(obj.triangle_count(), 2);
-    let m = message(Mesh::from_obj("v 0 0\nv 1 0\nf 1 2 3\n").err().unwrap());
-    assert!(m.starts_with("OBJ line 3"), "{m}");
+    let e = failure(Mesh::from_obj("v 0 0\nv 1 0\nf 1 2 3\n".into()).err().unwrap());
+    assert!(e.message.starts_with("OBJ line 3"), "{}", e.message);
+    assert_eq!((e.code.as_str(), e.number("line")), ("bad-obj", Some(3.0)));
+    let e = failure(Mesh::from_obj(JsValue::from(3)).err().unwrap());
+    assert_eq!((e.code.as_str(), e.message.as_str()), ("bad-type", "text: expected a string, got number"));
 }

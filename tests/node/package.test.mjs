@@ -3,18 +3,9 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, Mesh, Puppet } from "../../pkg/bunraku.js";
+import { grid as square } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
-
-const square = (n) => {
-  const v = [];
-  const t = [];
-  for (let y = 0; y <= n; y++) for (let x = 0; x <= n; x++) v.push(x, y);
-  const id = (x, y) => y * (n + 1) + x;
-  for (let y = 0; y < n; y++)
-    for (let x = 0; x < n; x++) t.push(id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y), id(x + 1, y + 1), id(x, y + 1));
-  return [new Float64Array(v), new Uint32Array(t)];
-};
 
 test("a rigid motion of the handles moves the shape rigidly, far from the origin", () => {
   const [v, t] = square(6);

@@ -1,0 +1,175 @@
+//! `Mesh`: shapes from outlines, pictures, OBJ files and JSON, with texture coordinates and
+//! boundary loops, for `Puppet.register`.
+
+use js_sys::{Float32Array, Float64Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+use super::errors::bad_type;
+use super::options::{image_options, outline_options};
+use super::{flat, items, read_items, rgba_bytes, string, typed, Thrown};
+use crate::meshing::{mesh_image, read_obj, shape_from_outline, ShapeMesh};
+use crate::Error;
+
+#[wasm_bindgen(typescript_custom_section)]
+const MESH_TS: &str = r#"
+/** A mesh as plain JSON data: what `Mesh.toJSON()` returns (and `JSON.stringify(mesh)` writes),
+ *  and what `Mesh.fromJSON` reads (`uvs` and `boundary` may be left out there). */
+export interface MeshJSON {
+  /** One `[x, y]` per vertex. */
+  vertices: [number, number][];
+  /** One `[a, b, c]` of vertex indices per triangle, counter-clockwise. */
+  triangles: [number, number, number][];
+  /** One `[u, v]` per vertex. */
+  uvs?: [number, number][];
+  /** The boundary loops, vertex indices (recomputed when read). */
+  boundary?: number[][];
+}
+"#;
+
+/// A validated triangle mesh made from an outline, a picture, an OBJ file or JSON, with
+/// texture coordinates and boundary loops; its `vertices` and `triangles` feed
+/// `Puppet.register`.
+#[wasm_bindgen(js_name = Mesh)]
+pub struct JsMesh {
+    shape: ShapeMesh,
+}
+
+#[wasm_bindgen(js_class = Mesh)]
+impl JsMesh {
+    /// Meshes the inside of the closed polygon `outer` (`[x0, y0, x1, y1, …]`) minus the
+    /// `holes` (an array of such polygons) with well-shaped triangles (constrained Delaunay
+    /// triangulation refined by spade). Throws on self-intersecting outlines (naming the
+    /// crossing segments), misplaced holes, non-finite points and bad options. `uvs` are
+    /// the positions normalised by the outline's bounding box (`u = (x − xMin) / (xMax −
+    /// xMin)`, `v = (y − yMin) / (yMax − yMin)`).
+    #[wasm_bindgen(js_name = fromOutline)]
+    pub fn from_outline(
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] outer: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array[]")] holes: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "OutlineOptions")] options: JsValue,
+    ) -> Result<JsMesh, Thrown> {
+        let outer = items::<Float64Array, 2>("outline", &outer)?;
+        let mut hole_points = Vec::new();
+        if !(holes.is_undefined() || holes.is_null()) {
+            let array =
+                holes.dyn_ref::<js_sys::Array>().ok_or_else(|| bad_type("holes", "an array", &holes))?;
+            for (k, hole) in array.iter().enumerate() {
+                let hole = typed::<Float64Array>(&format!("holes[{k}]"), &hole)?;
+                let mut points = Vec::new();
+                read_items("hole", hole, &mut points).map_err(|e| e.with("hole", k))?;
+                hole_points.push(points);
+            }
+        }
+        let options = outline_options(&options)?;
+        Ok(JsMesh { shape: shape_from_outline(&outer, &hole_points, &options)? })
+    }
+
+    /// Meshes the opaque part of a picture: `rgba` (a `Uint8Array` or `Uint8ClampedArray`,
+    /// e.g. `ImageData.data`) holds `width × height` pixels of 4 bytes, row by row from the
+    /// top; only alpha is read. Vertices are in pixels (x right, y down, origin at the
+    /// top-left corner), `uvs` are `(x / width, y / height)`. Throws on a buffer whose
+    /// length is not `width × height × 4`, a side of 0 or above 16384 (or more than 2²⁶
+    /// pixels), a picture with nothing opaque, and bad options.
+    #[wasm_bindgen(js_name = fromImage)]
+    pub fn from_image(
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array | Uint8ClampedArray")] rgba: JsValue,
+        width: u32,
+        height: u32,
+        #[wasm_bindgen(unchecked_optional_param_type = "ImageOptions")] options: JsValue,
+    ) -> Result<JsMesh, Thrown> {
+        let bytes = rgba_bytes(&rgba)?;
+        let options = image_options(&options)?;
+        Ok(JsMesh { shape: mesh_image(&bytes, width, height, &options)? })
+    }
+
+    /// Reads a Wavefront OBJ text: `v x y [z]` lines (all with the same z, which is
+    /// dropped; a 3D surface is rejected), `vt` lines, `f` lines with `v`, `v/vt`, `v//vn` or
+    /// `v/vt/vn` corners (1-based or negative indices), polygons fanned into triangles from
+    /// their first corner; other statements are ignored, as are vertices no face uses.
+    /// `uvs` are the `vt`s when each vertex has exactly one, else as for `fromOutline`.
+    /// Throws a `BunrakuError` naming the line.
+    #[wasm_bindgen(js_name = fromOBJ)]
+    pub fn from_obj(
+        #[wasm_bindgen(unchecked_param_type = "string")] text: JsValue,
+    ) -> Result<JsMesh, Thrown> {
+        Ok(JsMesh { shape: read_obj(&string("text", &text)?)? })
+    }
+
+    /// Reads a mesh from JSON: the text `toJSON` describes, or the object itself (what
+    /// `toJSON()` returned). `uvs` may be left out; `boundary` is recomputed. Validated like
+    /// `Puppet.register`; throws a `BunrakuError` naming the problem.
+    #[wasm_bindgen(js_name = fromJSON)]
+    pub fn from_json(
+        #[wasm_bindgen(unchecked_param_type = "string | MeshJSON")] json: JsValue,
+    ) -> Result<JsMesh, Thrown> {
+        let bad = |reason: String| Thrown::from(Error::BadJson { reason });
+        let object = match json.as_string() {
+            Some(text) => js_sys::JSON::parse(&text).map_err(|e| {
+                bad(e.dyn_into::<js_sys::Error>().map(|e| e.message().into()).unwrap_or_default())
+            })?,
+            None => json,
+        };
+        let Some(fields) = object.dyn_ref::<js_sys::Object>() else {
+            return Err(bad("expected a string or an object".into()));
+        };
+        // serde-wasm-bindgen reads only the fields it knows: name an unknown one here.
+        for key in js_sys::Object::keys(fields).iter() {
+            if !["vertices", "triangles", "uvs", "boundary"].iter().any(|k| key == *k) {
+                let key = key.as_string().unwrap_or_default();
+                return Err(bad(format!(
+                    "unknown field {key:?} (known: vertices, triangles, uvs, boundary)"
+                )));
+            }
+        }
+        let data = serde_wasm_bindgen::from_value(object).map_err(|e| bad(e.to_string()))?;
+        Ok(JsMesh { shape: ShapeMesh::from_json_data(data)? })
+    }
+
+    /// The mesh as plain data, so that `JSON.stringify(mesh)` writes it and
+    /// `Mesh.fromJSON(text)` reads it back exactly.
+    #[wasm_bindgen(js_name = toJSON, unchecked_return_type = "MeshJSON")]
+    pub fn to_json(&self) -> Result<JsValue, Thrown> {
+        serde_wasm_bindgen::to_value(&self.shape.json_ref())
+            .map_err(|e| Error::BadJson { reason: format!("could not encode ({e})") }.into())
+    }
+
+    /// The vertices `[x0, y0, …]`.
+    #[wasm_bindgen(getter)]
+    pub fn vertices(&self) -> Float64Array {
+        flat(self.shape.mesh().vertices())
+    }
+
+    /// The triangles `[a0, b0, c0, …]`, counter-clockwise (in the vertices' coordinates).
+    #[wasm_bindgen(getter)]
+    pub fn triangles(&self) -> Uint32Array {
+        flat(self.shape.mesh().triangles())
+    }
+
+    /// The texture coordinates `[u0, v0, u1, v1, …]`, one pair per vertex: from a picture
+    /// `(x / width, y / height)`; from an outline the position normalised by the bounding
+    /// box; from OBJ the `vt`s when each vertex has exactly one.
+    #[wasm_bindgen(getter)]
+    pub fn uvs(&self) -> Float32Array {
+        flat(self.shape.uvs())
+    }
+
+    /// The boundary loops: an array of `Uint32Array`s of vertex indices, each loop closed
+    /// implicitly, oriented like the triangles (around the shape the same way as the
+    /// triangles, around holes the other way).
+    #[wasm_bindgen(getter, unchecked_return_type = "Uint32Array[]")]
+    pub fn boundary(&self) -> js_sys::Array {
+        self.shape.boundary().iter().map(|l| JsValue::from(Uint32Array::from(&l[..]))).collect()
+    }
+
+    /// The number of vertices.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.shape.mesh().vertices().len()
+    }
+
+    /// The number of triangles.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> usize {
+        self.shape.mesh().triangles().len()
+    }
+}

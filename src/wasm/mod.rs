@@ -1,0 +1,148 @@
+//! The JavaScript binding (wasm-bindgen): the only module that knows JavaScript exists.
+//!
+//! Thin wrappers over the core, one file per domain:
+//!
+//! | module | what |
+//! |---|---|
+//! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
+//! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
+//! | `render` | `Renderer`: textured meshes into RGBA pixels |
+//! | `flatten` | `flatten`, `surfaceFromOBJ`; `Quality` and `Flattening` results |
+//! | `options` | every options object: its TypeScript interface next to its parser |
+//! | `errors` | every error thrown to JS: a real `Error` with a stable `code` |
+//!
+//! This file holds what they share: typed arrays in and out. Bulk data crosses the
+//! boundary as typed arrays only, checked here: a value of the wrong type is a `bad-type`
+//! error, a length that does not fit a `bad-length` one. Parameters that take JS objects
+//! are `JsValue`s checked in Rust rather than wasm-bindgen's typed parameters: the glue of
+//! a `&[f64]` parameter copies anything array-like without a word (a string becomes NaNs)
+//! and throws a `TypeError` without a code on `undefined`, and a `&Float64Array` one is
+//! not checked at all, so a wrong object fails inside an import, where the exception
+//! unwinds through wasm with the object still borrowed.
+//! A failed call leaves every object as it was: inputs are read and checked before any
+//! state changes.
+
+mod errors;
+mod flatten;
+mod mesh;
+mod options;
+mod puppet;
+mod render;
+
+pub use errors::Thrown;
+pub use flatten::{flatten_surface, surface_from_obj};
+pub use mesh::JsMesh;
+pub use puppet::Puppet;
+pub use render::JsRenderer;
+
+use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
+use wasm_bindgen::{JsCast, JsValue};
+
+use crate::Error;
+use errors::bad_type;
+
+/// A JS typed array and the Rust number type it holds: what the helpers below need to
+/// check, copy and make one.
+pub(crate) trait TypedArray: JsCast + for<'a> From<&'a [Self::Item]> {
+    /// The element type.
+    type Item: Copy + Default;
+    /// The type as messages name it, with its article: "a Float64Array".
+    const NAME: &'static str;
+    /// The number of elements.
+    fn len(&self) -> usize;
+    /// Copies every element into `out`, whose length must be [`TypedArray::len`].
+    fn copy_into(&self, out: &mut [Self::Item]);
+}
+
+/// Implements [`TypedArray`] for js-sys typed arrays, whose methods share names but no
+/// trait.
+macro_rules! typed_arrays {
+    ($($array:ident: $item:ty),* $(,)?) => {$(
+        impl TypedArray for $array {
+            type Item = $item;
+            const NAME: &'static str = concat!("a ", stringify!($array));
+            fn len(&self) -> usize {
+                self.length() as usize
+            }
+            fn copy_into(&self, out: &mut [$item]) {
+                self.copy_to(out)
+            }
+        }
+    )*};
+}
+
+typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint8Array: u8, Uint8ClampedArray: u8);
+
+/// `value` as the typed array `A`, or a `bad-type` error naming `argument`.
+pub(crate) fn typed<'v, A: TypedArray>(argument: &str, value: &'v JsValue) -> Result<&'v A, Thrown> {
+    value.dyn_ref::<A>().ok_or_else(|| bad_type(argument, A::NAME, value))
+}
+
+/// Copies `array`, `[x0, y0, x1, y1, …]` for `N = 2`, into `out` resized to
+/// `array.length / N` items (allocating only when it grows: the renderer reuses its
+/// buffers every frame). A length that is not a multiple of `N` is a `bad-length` error.
+pub(crate) fn read_items<A: TypedArray, const N: usize>(
+    what: &'static str,
+    array: &A,
+    out: &mut Vec<[A::Item; N]>,
+) -> Result<(), Thrown> {
+    let len = array.len();
+    if len % N != 0 {
+        return Err(Error::BadLength { what, len, expected: format!("a multiple of {N}") }.into());
+    }
+    out.resize(len / N, [A::Item::default(); N]);
+    array.copy_into(out.as_flattened_mut());
+    Ok(())
+}
+
+/// [`read_items`] into a new vector (the inputs of one-off calls).
+pub(crate) fn items<A: TypedArray, const N: usize>(
+    what: &'static str,
+    value: &JsValue,
+) -> Result<Vec<[A::Item; N]>, Thrown> {
+    let mut out = Vec::new();
+    read_items::<A, N>(what, typed::<A>(what, value)?, &mut out)?;
+    Ok(out)
+}
+
+/// Copies `array` into `out`, which it must fill exactly (`N · out.len()` numbers), without
+/// allocating: the targets of every frame. Another length is a `bad-length` error.
+pub(crate) fn read_exact<A: TypedArray, const N: usize>(
+    what: &'static str,
+    array: &A,
+    out: &mut [[A::Item; N]],
+) -> Result<(), Thrown> {
+    let (got, expected) = (array.len(), N * out.len());
+    if got != expected {
+        return Err(Error::CountMismatch { what, got, expected }.into());
+    }
+    array.copy_into(out.as_flattened_mut());
+    Ok(())
+}
+
+/// Items flattened into a new typed array, `[x0, y0, x1, y1, …]` for points: what every
+/// getter returns.
+pub(crate) fn flat<A: TypedArray, const N: usize>(items: &[[A::Item; N]]) -> A {
+    A::from(items.as_flattened())
+}
+
+/// The bytes of a `Uint8Array` or `Uint8ClampedArray` (RGBA pixels), copied out of JS.
+pub(crate) fn rgba_bytes(rgba: &JsValue) -> Result<Vec<u8>, Thrown> {
+    if let Some(a) = rgba.dyn_ref::<Uint8Array>() {
+        Ok(a.to_vec())
+    } else if let Some(a) = rgba.dyn_ref::<Uint8ClampedArray>() {
+        Ok(a.to_vec())
+    } else {
+        Err(bad_type("rgba", "a Uint8Array or a Uint8ClampedArray", rgba))
+    }
+}
+
+/// A string argument (OBJ text), or a `bad-type` error naming `argument`.
+pub(crate) fn string(argument: &str, value: &JsValue) -> Result<String, Thrown> {
+    value.as_string().ok_or_else(|| bad_type(argument, "a string", value))
+}
+
+/// Sets `key` on a fresh plain object (one the binding just made, so this cannot fail).
+pub(crate) fn set(object: &js_sys::Object, key: &str, value: &JsValue) {
+    let _ = js_sys::Reflect::set(object, &JsValue::from_str(key), value);
+}

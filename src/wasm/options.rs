@@ -1,0 +1,298 @@
+//! Every options object of the JS API: its TypeScript interface next to its parser.
+//!
+//! The parsers read each known key with `Reflect` (so a getter that throws is an error,
+//! not an abort), reject keys no option has (a misspelt option would otherwise be ignored
+//! without a word) and values of the wrong type (`bad-option`, naming the option as JS
+//! spells it), and leave range checks to the core, whose `BadOption` errors the binding
+//! words in JS ([`super::errors::JsVocabulary`]). Nothing here allocates in wasm memory
+//! unless it fails: `Renderer.renderInto` parses its options every frame.
+
+use js_sys::{Array, Float32Array, Float64Array, Reflect};
+use wasm_bindgen::{JsCast, JsValue};
+
+use super::errors::{bad_option, bad_type, describe, number, unknown_option, wrong_option_type, Thrown};
+use super::{read_exact, TypedArray};
+use crate::flatten::{FlattenOptions, VertexPin};
+use crate::meshing::{ImageOptions, OutlineOptions};
+use crate::render::RenderOptions;
+use crate::{EdgeWeights, Error, Options};
+
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const OPTIONS_TS: &str = r#"
+/** How the rows of each edge are weighted: `"uniform"` (every edge weighs 1: good for evenly
+ *  triangulated meshes) or `"cotangent"` (½(cot α + cot β) of the angles opposite the edge: the
+ *  paper's recommendation for uneven meshes). */
+export type EdgeWeights = "uniform" | "cotangent";
+
+/** Options of `Puppet.register`. */
+export interface RegisterOptions {
+  /** Edge weighting. Default `"uniform"`. */
+  weights?: EdgeWeights;
+  /** The multiplier of the pin rows (the energy weighs its square): how hard pins hold against
+   *  the shape's rigidity. In [1e-4, 1e6]; default 1000. */
+  handleWeight?: number;
+}
+
+/** Options of `Mesh.fromOutline`. */
+export interface OutlineOptions {
+  /** Target edge length, in the points' units. Default: the outline's bounding-box diagonal / 40. */
+  spacing?: number;
+  /** Smallest angle, in degrees, that refinement enforces wherever the outline allows it; in
+   *  (0, 33]. Default 30. */
+  minAngle?: number;
+  /** At most this many vertices (a whole number): the spacing grows until the mesh fits. */
+  maxVertices?: number;
+}
+
+/** Options of `Mesh.fromImage`; lengths and areas in pixels. */
+export interface ImageOptions {
+  /** A pixel is opaque when its alpha is at least this; an integer from 1 to 255. Default 128. */
+  alphaThreshold?: number;
+  /** How far the shape grows beyond the opaque pixels, so that anti-aliased edges stay inside
+   *  (never beyond the picture; regions closer than twice the margin merge); in [0, 256].
+   *  Default 2. */
+  margin?: number;
+  /** Target edge length. Default: about 2000 vertices, at least 2 px. */
+  spacing?: number;
+  /** At most this many vertices over the whole picture (a whole number). */
+  maxVertices?: number;
+  /** Smallest angle, in degrees, that refinement enforces; in (0, 33]. Default 30. */
+  minAngle?: number;
+  /** Contour tolerance: how far the simplified outline may depart from the traced one; in
+   *  [0, 64], 0 keeps every contour point. Default 1. */
+  simplify?: number;
+  /** Opaque regions smaller than this are dropped as specks, holes smaller than this filled.
+   *  Default 16. */
+  minArea?: number;
+}
+
+/** Options of `flatten`. */
+export interface FlattenOptions {
+  /** Edge weighting, from the 3D angles. Default `"cotangent"`. */
+  weights?: EdgeWeights;
+  /** The multiplier of the pin rows, in [1e-4, 1e6]. Default 1000. */
+  handleWeight?: number;
+  /** Two or more vertices to pin, with `targets`. Default: the edge whose midpoint is nearest the
+   *  centroid, its lower-index end at (0, 0), the other on +x at its 3D length. */
+  pins?: Uint32Array;
+  /** The pins' 2D targets `[x0, y0, x1, y1, …]`, one pair per pin (with `pins`). */
+  targets?: Float64Array;
+}
+
+/** Options of `Renderer.render` and `Renderer.renderInto`. */
+export interface RenderOptions {
+  /** `[a, b, c, d, e, f]` as in `CanvasRenderingContext2D.setTransform`: a position `(x, y)` lands on output
+   *  pixel `(a·x + c·y + e, b·x + d·y + f)`. Default: the identity. */
+  transform?: number[] | Float64Array | Float32Array;
+  /** The colour behind the mesh, straight `[r, g, b, a]`, integers 0–255. Default: transparent. */
+  background?: number[] | Float64Array | Float32Array;
+}
+"#;
+
+/// An options object whose keys have been checked; absent (`undefined` or `null`) reads as
+/// empty.
+struct Fields<'a>(Option<&'a JsValue>);
+
+impl<'a> Fields<'a> {
+    /// Checks that `options` is absent or an object with no key outside `known`.
+    fn open(options: &'a JsValue, known: &[&str]) -> Result<Fields<'a>, Thrown> {
+        if options.is_undefined() || options.is_null() {
+            return Ok(Fields(None));
+        }
+        if !options.is_object() {
+            return Err(bad_type("options", "an object", options));
+        }
+        // Compared as JS strings: turning every key into a Rust string would allocate.
+        for key in js_sys::Object::keys(options.unchecked_ref::<js_sys::Object>()).iter() {
+            if !known.iter().any(|k| key == *k) {
+                let value = Reflect::get(options, &key).unwrap_or(JsValue::UNDEFINED);
+                return Err(unknown_option(&key, &value, known));
+            }
+        }
+        Ok(Fields(Some(options)))
+    }
+
+    /// The value of `key`, `None` when absent (`undefined`).
+    fn get(&self, key: &str) -> Result<Option<JsValue>, Thrown> {
+        let Some(object) = self.0 else { return Ok(None) };
+        let value = Reflect::get(object, &JsValue::from_str(key))
+            .map_err(|_| bad_option(key, &JsValue::UNDEFINED, "could not be read (its getter threw)"))?;
+        Ok(Some(value).filter(|v| !v.is_undefined()))
+    }
+
+    /// A number option.
+    fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
+        self.get(key)?.map(|v| v.as_f64().ok_or_else(|| wrong_option_type(key, "a number", &v))).transpose()
+    }
+
+    /// A count (`maxVertices`): a whole number, at least 0.
+    fn count(&self, key: &str) -> Result<Option<usize>, Thrown> {
+        let Some(x) = self.number(key)? else { return Ok(None) };
+        // Written so that NaN and infinities fail (their fract() is NaN).
+        if !(x >= 0.0 && x.fract() == 0.0) {
+            return Err(bad_option(key, &x.into(), &format!("{} is not a whole number ≥ 0", number(x))));
+        }
+        // `as` saturates: a budget beyond the address space is no budget.
+        Ok(Some(x as usize))
+    }
+
+    /// The `weights` option.
+    fn weights(&self) -> Result<Option<EdgeWeights>, Thrown> {
+        let Some(v) = self.get("weights")? else { return Ok(None) };
+        let name = v.as_string();
+        let weights = [EdgeWeights::Uniform, EdgeWeights::Cotangent];
+        match weights.into_iter().find(|&w| name.as_deref() == Some(weights_name(w))) {
+            Some(w) => Ok(Some(w)),
+            None => Err(bad_option(
+                "weights",
+                &v,
+                &format!("{} is not \"uniform\" or \"cotangent\"", describe(&v)),
+            )),
+        }
+    }
+
+    /// A typed-array option.
+    fn typed<A: TypedArray>(&self, key: &str) -> Result<Option<A>, Thrown> {
+        self.get(key)?.map(|v| v.dyn_into::<A>().map_err(|v| wrong_option_type(key, A::NAME, &v))).transpose()
+    }
+}
+
+/// An `EdgeWeights` as JS spells it (the `weights` option, `Puppet.weights`).
+pub(crate) fn weights_name(weights: EdgeWeights) -> &'static str {
+    match weights {
+        EdgeWeights::Uniform => "uniform",
+        EdgeWeights::Cotangent => "cotangent",
+    }
+}
+
+/// `Puppet.register`'s options.
+pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
+    let fields = Fields::open(options, &["weights", "handleWeight"])?;
+    let mut o = Options::default();
+    o.weights = fields.weights()?.unwrap_or(o.weights);
+    o.handle_weight = fields.number("handleWeight")?.unwrap_or(o.handle_weight);
+    Ok(o)
+}
+
+/// `Mesh.fromOutline`'s options.
+pub(crate) fn outline_options(options: &JsValue) -> Result<OutlineOptions, Thrown> {
+    let fields = Fields::open(options, &["spacing", "minAngle", "maxVertices"])?;
+    let mut o = OutlineOptions::new();
+    o.spacing = fields.number("spacing")?;
+    o.min_angle_deg = fields.number("minAngle")?.unwrap_or(o.min_angle_deg);
+    o.max_vertices = fields.count("maxVertices")?;
+    Ok(o)
+}
+
+/// `Mesh.fromImage`'s options.
+pub(crate) fn image_options(options: &JsValue) -> Result<ImageOptions, Thrown> {
+    let fields = Fields::open(
+        options,
+        &["alphaThreshold", "margin", "spacing", "maxVertices", "minAngle", "simplify", "minArea"],
+    )?;
+    let mut o = ImageOptions::default();
+    if let Some(t) = fields.number("alphaThreshold")? {
+        // The core holds a byte: the range is checked here, worded like the core's checks.
+        if !(t.fract() == 0.0 && (1.0..=255.0).contains(&t)) {
+            let reason = "is not an integer from 1 to 255".into();
+            return Err(Error::BadOption { name: "alpha_threshold", value: Some(t), reason }.into());
+        }
+        o.alpha_threshold = t as u8;
+    }
+    o.margin = fields.number("margin")?.unwrap_or(o.margin);
+    o.spacing = fields.number("spacing")?;
+    o.max_vertices = fields.count("maxVertices")?;
+    o.min_angle_deg = fields.number("minAngle")?.unwrap_or(o.min_angle_deg);
+    o.simplify = fields.number("simplify")?.unwrap_or(o.simplify);
+    o.min_area = fields.number("minArea")?.unwrap_or(o.min_area);
+    Ok(o)
+}
+
+/// `flatten`'s options.
+pub(crate) fn flatten_options(options: &JsValue) -> Result<FlattenOptions, Thrown> {
+    let fields = Fields::open(options, &["weights", "handleWeight", "pins", "targets"])?;
+    let mut o = FlattenOptions::default();
+    o.weights = fields.weights()?.unwrap_or(o.weights);
+    o.handle_weight = fields.number("handleWeight")?.unwrap_or(o.handle_weight);
+    match (fields.typed::<js_sys::Uint32Array>("pins")?, fields.typed::<Float64Array>("targets")?) {
+        (None, None) => {}
+        (Some(pins), Some(targets)) => {
+            let mut points = vec![[0.0; 2]; pins.len()];
+            read_exact::<_, 2>("targets", &targets, &mut points)?;
+            let vertices = pins.to_vec();
+            o.pins = vertices
+                .into_iter()
+                .zip(points)
+                .map(|(vertex, target)| VertexPin { vertex, target })
+                .collect();
+        }
+        (pins, _) => {
+            let missing = if pins.is_some() { "targets" } else { "pins" };
+            let reason = "missing; pins and targets go together (vertex indices and their 2D targets)";
+            return Err(bad_option(missing, &JsValue::UNDEFINED, reason));
+        }
+    }
+    Ok(o)
+}
+
+/// `Renderer.render`'s and `renderInto`'s options (every frame: nothing is allocated).
+pub(crate) fn render_options(options: &JsValue) -> Result<RenderOptions, Thrown> {
+    let fields = Fields::open(options, &["transform", "background"])?;
+    let mut o = RenderOptions::default();
+    if let Some(t) = fields.get("transform")? {
+        // Non-finite values are the core's to name.
+        o.transform = numbers::<6>("transform", &t, "[a, b, c, d, e, f]")?;
+    }
+    if let Some(b) = fields.get("background")? {
+        let rgba = numbers::<4>("background", &b, "[r, g, b, a]")?;
+        for (k, &c) in rgba.iter().enumerate() {
+            if !(c.fract() == 0.0 && (0.0..=255.0).contains(&c)) {
+                let reason = format!("(item {k}) is not an integer from 0 to 255");
+                return Err(Thrown::from(Error::BadOption { name: "background", value: Some(c), reason })
+                    .with("item", k));
+            }
+            o.background[k] = c as u8;
+        }
+    }
+    Ok(o)
+}
+
+/// `N` numbers from an array, `Float64Array` or `Float32Array` option.
+fn numbers<const N: usize>(option: &str, value: &JsValue, shape: &str) -> Result<[f64; N], Thrown> {
+    let mut out = [0.0; N];
+    let len = if let Some(a) = value.dyn_ref::<Array>() {
+        if a.length() as usize == N {
+            for (k, slot) in out.iter_mut().enumerate() {
+                let v = a.get(k as u32);
+                *slot = v.as_f64().ok_or_else(|| {
+                    bad_option(option, &v, &format!("item {k} is not a number ({})", describe(&v)))
+                        .with("item", k)
+                })?;
+            }
+        }
+        a.length() as usize
+    } else if let Some(a) = value.dyn_ref::<Float64Array>() {
+        copy_numbers(a, &mut out)
+    } else if let Some(a) = value.dyn_ref::<Float32Array>() {
+        copy_numbers(a, &mut out)
+    } else {
+        return Err(wrong_option_type(option, &format!("{shape} (an array of {N} numbers)"), value));
+    };
+    if len != N {
+        return Err(bad_option(option, value, &format!("expected {shape}, got {len} items")));
+    }
+    Ok(out)
+}
+
+/// Copies a typed array into `out` when the lengths agree; returns its length.
+fn copy_numbers<A: TypedArray, const N: usize>(array: &A, out: &mut [f64; N]) -> usize
+where
+    A::Item: Into<f64>,
+{
+    if array.len() == N {
+        let mut items = [A::Item::default(); N];
+        array.copy_into(&mut items);
+        *out = items.map(Into::into);
+    }
+    array.len()
+}

@@ -1,0 +1,189 @@
+//! `Puppet`: register a rest shape once, compile a pin set once per set, update every
+//! frame (Igarashi & Igarashi 2009, section 6).
+
+use js_sys::{Float64Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+use super::flatten::quality_object;
+use super::options::{register_options, weights_name};
+use super::{flat, items, read_exact, typed, Thrown, TypedArray};
+use crate::{Error, Handle, Mesh, Pinned, Rest};
+
+/// A shape to puppeteer: a registered rest mesh and, once compiled, a handle set.
+///
+/// ```js
+/// const puppet = Puppet.register(vertices, triangles, { weights: "cotangent" });
+/// puppet.compile(new Float64Array([x0, y0, x1, y1, x2, y2]));
+/// const out = puppet.update(new Float64Array([...targets]));   // [x0, y0, x1, y1, …] per vertex
+/// puppet.free();
+/// ```
+#[wasm_bindgen]
+pub struct Puppet {
+    rest: Rest,
+    pinned: Option<Pinned>,
+    /// The targets of the last update, kept so that an update allocates nothing.
+    targets: Vec<[f64; 2]>,
+}
+
+#[wasm_bindgen]
+impl Puppet {
+    /// Registers a rest shape (Igarashi & Igarashi 2009, section 6): validates the mesh and
+    /// precomputes the edge fits, the normal matrices and their symbolic factorisations.
+    ///
+    /// `vertices` is `[x0, y0, x1, y1, …]`; `triangles` is `[a0, b0, c0, a1, …]` (clockwise
+    /// triangles are reoriented); `options` defaults to uniform weights and a handle weight
+    /// of 1000. Throws a `BunrakuError` naming the offending vertex, triangle, edge or
+    /// option.
+    pub fn register(
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] vertices: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "RegisterOptions")] options: JsValue,
+    ) -> Result<Puppet, Thrown> {
+        let options = register_options(&options)?;
+        let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
+        let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
+        let rest = Rest::register(Mesh::new(vertices, triangles)?, options)?;
+        Ok(Puppet { rest, pinned: None, targets: Vec::new() })
+    }
+
+    /// Compiles a handle set: `handles` is `[x0, y0, x1, y1, …]`, rest-space points anywhere
+    /// on the shape (inside a triangle, on an edge or on a vertex), in the order the targets
+    /// will come in. Factorises both normal matrices once. Throws if a handle lies outside
+    /// the shape, is not finite, or coincides with another (the error names the handle);
+    /// the previous handle set then stays compiled.
+    pub fn compile(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] handles: JsValue,
+    ) -> Result<(), Thrown> {
+        let points = items::<Float64Array, 2>("handles", &handles)?;
+        self.install(&points.into_iter().map(Handle::Point).collect::<Vec<_>>())
+    }
+
+    /// Compiles a handle set of mesh vertices (indices into `vertices`), like `compile`.
+    #[wasm_bindgen(js_name = compileVertices)]
+    pub fn compile_vertices(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] vertices: JsValue,
+    ) -> Result<(), Thrown> {
+        let vertices = typed::<Uint32Array>("vertices", &vertices)?.to_vec();
+        self.install(&vertices.into_iter().map(Handle::Vertex).collect::<Vec<_>>())
+    }
+
+    fn install(&mut self, handles: &[Handle]) -> Result<(), Thrown> {
+        let pinned = self.rest.compile(handles)?;
+        self.targets = vec![[0.0; 2]; handles.len()];
+        self.pinned = Some(pinned);
+        Ok(())
+    }
+
+    /// Moves the handles to `targets` (`[x0, y0, …]`, same order as compiled) and returns
+    /// the deformed vertex positions `[x0, y0, x1, y1, …]` as a new `Float64Array`. Costs
+    /// a combination of per-handle solutions, a rotation fit per edge and one
+    /// back-substitution. Throws on a wrong type or length or a non-finite target.
+    pub fn update(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+    ) -> Result<Float64Array, Thrown> {
+        Ok(Float64Array::from(self.solve(&targets)?))
+    }
+
+    /// Like `update`, but writes the positions into `out` (a `Float64Array` of length
+    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame.
+    #[wasm_bindgen(js_name = updateInto)]
+    pub fn update_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+    ) -> Result<(), Thrown> {
+        let out = typed::<Float64Array>("out", &out)?;
+        let (got, expected) = (out.len(), 2 * self.vertex_count());
+        if got != expected {
+            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
+        }
+        out.copy_from(self.solve(&targets)?);
+        Ok(())
+    }
+
+    /// Reads the targets into the puppet's own buffer and solves; before any compile, the
+    /// rest shape (for no targets).
+    fn solve(&mut self, targets: &JsValue) -> Result<&[f64], Thrown> {
+        read_exact("targets", typed::<Float64Array>("targets", targets)?, &mut self.targets)?;
+        match &mut self.pinned {
+            None => Ok(self.rest.mesh().vertices().as_flattened()),
+            Some(p) => Ok(p.update(&self.targets)?.as_flattened()),
+        }
+    }
+
+    /// The positions of the last update (the rest shape before the first).
+    fn current(&self) -> &[[f64; 2]] {
+        match &self.pinned {
+            Some(p) => p.positions(),
+            None => self.rest.mesh().vertices(),
+        }
+    }
+
+    /// The number of vertices.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.rest.mesh().vertices().len()
+    }
+
+    /// The number of triangles.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> usize {
+        self.rest.mesh().triangles().len()
+    }
+
+    /// The number of compiled handles (0 before `compile`).
+    #[wasm_bindgen(getter, js_name = handleCount)]
+    pub fn handle_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// The number of connected components of the mesh.
+    #[wasm_bindgen(getter, js_name = componentCount)]
+    pub fn component_count(&self) -> usize {
+        self.rest.mesh().component_count()
+    }
+
+    /// The rest vertices `[x0, y0, …]`.
+    #[wasm_bindgen(getter)]
+    pub fn vertices(&self) -> Float64Array {
+        flat(self.rest.mesh().vertices())
+    }
+
+    /// The triangles `[a0, b0, c0, …]`, all counter-clockwise (an input triangle that was
+    /// clockwise has its last two indices swapped).
+    #[wasm_bindgen(getter)]
+    pub fn triangles(&self) -> Uint32Array {
+        flat(self.rest.mesh().triangles())
+    }
+
+    /// The compiled handles' rest points `[x0, y0, …]`: passing them as targets returns
+    /// the rest shape.
+    #[wasm_bindgen(getter)]
+    pub fn handles(&self) -> Float64Array {
+        flat(self.pinned.as_ref().map_or(&[][..], |p| p.handle_points()))
+    }
+
+    /// The positions computed by the last update (the rest shape before the first).
+    #[wasm_bindgen(getter)]
+    pub fn positions(&self) -> Float64Array {
+        flat(self.current())
+    }
+
+    /// The edge weighting this puppet was registered with.
+    #[wasm_bindgen(getter, unchecked_return_type = "EdgeWeights")]
+    pub fn weights(&self) -> String {
+        weights_name(self.rest.options().weights).into()
+    }
+
+    /// The distortion of the current positions (the last update; the rest shape before the
+    /// first) against the rest shape: summaries of the isometric and conformal error, the
+    /// area ratio and the edge strain, the number of flipped triangles, and per-triangle
+    /// arrays.
+    #[wasm_bindgen(unchecked_return_type = "Quality")]
+    pub fn quality(&self) -> Result<JsValue, Thrown> {
+        Ok(quality_object(&crate::quality::quality_2d(self.rest.mesh(), self.current())?))
+    }
+}
