@@ -1,0 +1,92 @@
+// Type-level checks of the built declarations (pkg/bunraku.d.ts), compiled with
+// `tsc --strict` by tests/node/readme-types.test.mjs together with the README's snippets:
+// optional parameters are optional, options and results have names and no `any`, bulk data
+// are typed arrays, and errors have codes. A line marked @ts-expect-error must not compile.
+import {
+  Mesh,
+  Puppet,
+  Renderer,
+  flatten,
+  surfaceFromOBJ,
+  type BunrakuError,
+  type EdgeWeights,
+  type ErrorCode,
+  type FlattenOptions,
+  type Flattening,
+  type ImageOptions,
+  type MeshJSON,
+  type OutlineOptions,
+  type Quality,
+  type QualitySummary,
+  type RegisterOptions,
+  type RenderOptions,
+  type Surface,
+} from "bunraku";
+
+/** `true` when `T` and `U` are the same type (`any` equals nothing but `any`). */
+type Equal<T, U> = (<G>() => G extends T ? 1 : 2) extends <G>() => G extends U ? 1 : 2 ? true : false;
+/** Compiles only when its argument is `true`. */
+function check<T extends true>(): void {}
+
+declare const v: Float64Array;
+declare const t: Uint32Array;
+declare const rgba: Uint8ClampedArray;
+
+// Every options parameter is optional.
+const puppet = Puppet.register(v, t);
+Puppet.register(v, t, { weights: "cotangent", handleWeight: 500 });
+const outline = Mesh.fromOutline(v);
+Mesh.fromOutline(v, [v], { spacing: 2, minAngle: 25, maxVertices: 1000 });
+Mesh.fromImage(rgba, 2, 2);
+Mesh.fromImage(rgba, 2, 2, { alphaThreshold: 1, margin: 0, simplify: 0, minArea: 0 });
+flatten(v, t);
+flatten(v, t, { weights: "uniform", pins: t, targets: v });
+const renderer = new Renderer(rgba, 2, 2);
+renderer.render(v, t, new Float32Array(8), 4, 4);
+renderer.renderInto(new Uint8ClampedArray(64), v, t, new Float32Array(8), 4, 4, { background: [0, 0, 0, 255] });
+
+// Options are checked.
+// @ts-expect-error: no such weighting
+Puppet.register(v, t, { weights: "harmonic" });
+// @ts-expect-error: a misspelt option
+Puppet.register(v, t, { handleWieght: 5 });
+// @ts-expect-error: an option of the wrong type
+Mesh.fromImage(rgba, 2, 2, { minAngle: "30" });
+// @ts-expect-error: bulk data are typed arrays
+puppet.update([0, 0]);
+// @ts-expect-error: bulk data are typed arrays
+puppet.compile([0, 0]);
+
+// The options parameters are the named interfaces.
+check<Equal<Parameters<typeof Puppet.register>[2], RegisterOptions | undefined>>();
+check<Equal<Parameters<typeof Mesh.fromOutline>[2], OutlineOptions | undefined>>();
+check<Equal<Parameters<typeof Mesh.fromImage>[3], ImageOptions | undefined>>();
+check<Equal<Parameters<typeof flatten>[2], FlattenOptions | undefined>>();
+check<Equal<Parameters<Renderer["render"]>[5], RenderOptions | undefined>>();
+check<Equal<RegisterOptions["weights"], EdgeWeights | undefined>>();
+
+// Results have names, and no `any`.
+check<Equal<typeof puppet.weights, EdgeWeights>>();
+check<Equal<ReturnType<Mesh["toJSON"]>, MeshJSON>>();
+check<Equal<ReturnType<Puppet["quality"]>, Quality>>();
+check<Equal<ReturnType<typeof flatten>, Flattening>>();
+check<Equal<ReturnType<typeof surfaceFromOBJ>, Surface>>();
+check<Equal<Flattening["quality"], Quality>>();
+check<Equal<Quality["edgeStrain"], QualitySummary>>();
+check<Equal<Parameters<typeof Mesh.fromJSON>[0], string | MeshJSON>>();
+const json: MeshJSON = outline.toJSON();
+Mesh.fromJSON(json);
+Mesh.fromJSON(JSON.stringify(outline));
+
+// Errors carry codes.
+try {
+  puppet.compile(v);
+} catch (e) {
+  const error = e as BunrakuError;
+  const code: ErrorCode = error.code;
+  check<Equal<typeof error.index, number | undefined>>();
+  check<Equal<typeof error.edge, [number, number] | undefined>>();
+  // @ts-expect-error: not a code
+  if (code === "handle_outside") throw error;
+  if (error instanceof Error && code === "handle-outside") console.warn(error.message, error.index);
+}
