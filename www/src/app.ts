@@ -1,6 +1,9 @@
 // The demo's state and how the parts meet: the picture shown and its rig, the view, the
 // pins as the pointer sees them (PinBoard), the worker that owns the puppets, and the
-// frame, which only draws: solves come back from the worker between frames.
+// frame, which only draws: solves come back from the worker between frames. The pins
+// follow the pointer at the frame rate; the picture is redrawn when a new pose (or view)
+// arrives, so a slow solve never holds the pins back and a frame without one costs only
+// the overlay.
 //
 // Opens and remeshes get increasing generation numbers when they are asked for, and only
 // the newest one asked for is ever installed, so the last picture opened wins whatever
@@ -71,6 +74,8 @@ export class App implements PinBoard {
   private fresh: SolveStamp | null = null;
   /** The newest solve's time in the worker (ms), for the status panel. */
   private lastSolveMs: number | null = null;
+  /** The picture must be drawn again: a new pose, view, size, mesh or GPU context. */
+  private pictureDirty = true;
   private restoring = false;
   private waiters: (() => void)[] = [];
 
@@ -174,6 +179,7 @@ export class App implements PinBoard {
 
   /** The current frame (the posed picture, without pins or wireframe) as a PNG. */
   exportPNG(): Promise<Blob> {
+    this.pictureDirty = true;
     this.frames.runNow(); // a WebGL canvas is read back before the frame is presented
     return new Promise((resolve, reject) =>
       this.stage.toBlob((blob) => (blob ? resolve(blob) : reject(new Error("could not encode the frame as PNG"))), "image/png"),
@@ -187,6 +193,7 @@ export class App implements PinBoard {
     this.renderer.resize(w, h);
     this.overlay.resize(w, h, dpr);
     this.fit();
+    this.pictureDirty = true;
     this.frames.request();
   }
 
@@ -195,6 +202,7 @@ export class App implements PinBoard {
     if (lost) this.status.info("the GPU context was lost; waiting for it to come back");
     else {
       this.status.clear();
+      this.pictureDirty = true;
       this.frames.request();
     }
   }
@@ -259,6 +267,7 @@ export class App implements PinBoard {
   dragPin(id: number, x: number, y: number): void {
     this.rig?.moveTarget(id, ...this.view.toPicture(x, y));
     this.requestSolve();
+    this.frames.request(); // the pin follows now; the picture when its pose comes back
   }
 
   setDragged(ids: ReadonlySet<number>): void {
@@ -342,6 +351,7 @@ export class App implements PinBoard {
     else this.status.clear();
     this.status.pins(rig.pins.length);
     this.fit();
+    this.pictureDirty = true;
     this.frames.request();
     // Targets moved while the remesh ran are the old rig's; the new one starts posed as
     // it was asked for, so only an unconverged method needs another update.
@@ -412,6 +422,7 @@ export class App implements PinBoard {
           rig.positions = positions;
           this.fresh = { solveMs: stats.solveMs, roundTripMs: performance.now() - sent };
           this.lastSolveMs = stats.solveMs;
+          this.pictureDirty = true;
           if (stats.converged === false) s.dirty = true;
           this.frames.request();
         } else if (answer.status === "error" && rig === this.rig) {
@@ -444,7 +455,10 @@ export class App implements PinBoard {
     const solve = this.fresh;
     this.fresh = null;
     try {
-      this.renderer.draw(rig.positions, this.view.deviceTransform(this.size.dpr));
+      if (this.pictureDirty) {
+        this.pictureDirty = false;
+        this.renderer.draw(rig.positions, this.view.deviceTransform(this.size.dpr));
+      }
       const marks: PinMark[] = rig.pins.map((p) => {
         const [x, y] = this.view.toStage(...p.target);
         return { x, y, active: this.dragged.has(p.id), selected: p.id === this.selected };
