@@ -1,6 +1,8 @@
 // The demo page end to end in headless Chromium (Debian's, driven by playwright-core):
-// it builds www/dist/ if needed, serves it on a free port, and checks what a user sees —
-// pixels read back from screenshots — after real mouse, keyboard, touch and file input.
+// it builds the test build (www/dist-test/) if needed, serves it on a free port, and
+// checks what a user sees — pixels read back from screenshots — after real mouse,
+// keyboard, touch and file input. worker.test.mjs covers the worker's side of the page,
+// builds.test.mjs the page users get (www/dist/).
 //
 //   node --test tests/browser/
 //   BUNRAKU_SCREENSHOT=1 node --test tests/browser/    also writes docs/demo.png
@@ -139,7 +141,8 @@ async function dragHandUp(page, lift = 80) {
 test("dragging a hand's pin moves the hand's pixels with it", { timeout: TIMEOUT }, async () => {
   const { page, context, errors } = await openDemo(demo);
   await dragHandUp(page);
-  // Pointer moves coalesce: twenty moves within one frame make one solve and one draw.
+  // Pointer moves coalesce: twenty moves in one task make one update to the worker (one
+  // solve), drawn once.
   const solves = await page.evaluate(async () => {
     const demo = window.bunrakuDemo;
     const stage = document.getElementById("stage");

@@ -58,10 +58,10 @@ test("the page stays responsive while the worker meshes a large picture (2048 ×
   const { page, context, errors } = await openDemo(demo);
   await setDensity(page, 10000);
   await settled(page);
-  const wireframe = await page.locator("#wireframe").boundingBox();
+  const toggle = await page.locator("#show-pins").boundingBox();
 
   // Every animation frame records the time and whether an open is in the worker; every
-  // click on the wireframe toggle records how long after the input it was handled.
+  // click on the pins toggle records how long after the input it was handled.
   await page.evaluate(() => {
     const probe = (window.probe = { ticks: [], clicks: [], stop: false });
     const tick = () => {
@@ -69,14 +69,14 @@ test("the page stays responsive while the worker meshes a large picture (2048 ×
       if (!probe.stop) requestAnimationFrame(tick);
     };
     requestAnimationFrame(tick);
-    document.getElementById("wireframe").addEventListener("click", (e) => probe.clicks.push(performance.now() - e.timeStamp));
+    document.getElementById("show-pins").addEventListener("click", (e) => probe.clicks.push(performance.now() - e.timeStamp));
   });
   await open(page, "big.png", bigPNG());
   await page.waitForFunction(() => window.bunrakuDemo.pending().opens > 0, null, { polling: 5, timeout: 30_000 });
   const roundTrips = [];
   while (await page.evaluate(() => window.bunrakuDemo.pending().opens > 0)) {
     const t0 = performance.now();
-    await page.mouse.click(wireframe.x + wireframe.width / 2, wireframe.y + wireframe.height / 2);
+    await page.mouse.click(toggle.x + toggle.width / 2, toggle.y + toggle.height / 2);
     roundTrips.push(performance.now() - t0);
   }
   await page.waitForFunction(() => window.bunrakuDemo.picture()?.name === "big.png", null, { timeout: 30_000 });
@@ -107,11 +107,26 @@ test("the page stays responsive while the worker meshes a large picture (2048 ×
 
   // The large picture is shown and works.
   await hidePins(page);
-  await page.locator("#wireframe").uncheck();
   const box = await stageBox(page);
-  const shot = await capture(page);
-  assert.ok(isOrange(shot.at(box.x + box.width / 2 - 20, box.y + box.height / 2)), `the star is drawn: ${shot.at(box.x + box.width / 2 - 20, box.y + box.height / 2)}`);
+  const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+  let shot = await capture(page);
+  assert.ok(isOrange(shot.at(cx - 20, cy)), `the star is drawn: ${shot.at(cx - 20, cy)}`);
   assert.ok((await pinCount(page)) >= 2);
+  // A pin on an arm, dragged out from the others until it is off the star, pulls the star
+  // there.
+  const all = await pins(page);
+  const [mx, my] = [all.reduce((s, p) => s + p.x, 0) / all.length, all.reduce((s, p) => s + p.y, 0) / all.length];
+  const arm = all.reduce((a, p) => (Math.hypot(p.x - mx, p.y - my) > Math.hypot(a.x - mx, a.y - my) ? p : a));
+  const d = Math.hypot(arm.x - mx, arm.y - my);
+  let out = arm;
+  for (let k = 1; k <= 200 && shot.count(out.x, out.y, 9, isOrange) > 0; k++) {
+    out = { x: arm.x + (k * (arm.x - mx)) / d, y: arm.y + (k * (arm.y - my)) / d };
+  }
+  out = { x: out.x + (20 * (arm.x - mx)) / d, y: out.y + (20 * (arm.y - my)) / d };
+  assert.equal(shot.count(out.x, out.y, 9, isOrange), 0, `(${out.x}, ${out.y}) is beyond the star before the drag`);
+  await drag(page, arm, out);
+  shot = await capture(page);
+  assert.ok(shot.count(out.x, out.y, 5, isOrange) >= 20, `the star was stretched to (${out.x}, ${out.y})`);
   assert.deepEqual(errors, []);
   await context.close();
 });
@@ -184,7 +199,7 @@ test("an error from the worker (a fully transparent picture) is shown and the pr
 
   // The worker carries on: the next drag bends the picture.
   const head = before[0];
-  const to = { x: head.x + 60, y: head.y + 10 };
+  const to = { x: head.x + 20, y: head.y - 90 };
   assert.ok(!isCookie(still.at(to.x, to.y)), "nothing is drawn where the head goes");
   await drag(page, head, to);
   assert.ok((await capture(page)).count(to.x, to.y, 5, isCookie) >= 20, "the head followed its pin");
@@ -208,15 +223,13 @@ test("a worker that fails (as on a wasm panic) is replaced, and the picture come
   assert.match(said.text, /the puppet's worker failed \(RuntimeError: unreachable .*\); restarted it$/);
   assert.equal(await pictureName(page), "gingerbread");
   assert.deepEqual((await pins(page)).map(({ x, y }) => ({ x, y })), targets, "the pins are where they were");
+  // The pose is rebuilt from where the pins are, not from the way they got there: a
+  // method whose result depends on the path (an iterative one, warm-started) may settle a
+  // little elsewhere, so only what the pins hold is compared.
   const back = await capture(page);
-  const box = await stageBox(page);
-  let differ = 0;
-  for (let y = box.y; y < box.y + box.height; y += 5) {
-    for (let x = box.x; x < box.x + box.width; x += 5) {
-      if (Math.max(...posed.at(x, y).map((v, k) => Math.abs(v - back.at(x, y)[k]))) > 8) differ++;
-    }
+  for (const p of targets) {
+    assert.ok(back.count(p.x, p.y, 5, isCookie) >= 20 && posed.count(p.x, p.y, 5, isCookie) >= 20, `the picture is held at the pin (${p.x}, ${p.y})`);
   }
-  assert.ok(differ < 5, `${differ} sampled pixels differ from the pose before the failure`);
 
   // The new worker solves: dragging the head moves it.
   const head = (await pins(page))[0];
