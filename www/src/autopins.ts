@@ -1,6 +1,6 @@
 // Starting pins for a picture nobody has pinned yet: one in the middle of its largest
 // part, the others at the extremities farthest from the pins already chosen, so that the
-// first drag of any pin already bends the shape.
+// first drag of any pin already bends the shape. Chosen in the worker, with the mesh.
 
 /** How many pins a new picture gets. */
 export const AUTO_PIN_COUNT = 4;

@@ -14,7 +14,7 @@ export interface SolveStamp {
 export interface FrameRecord {
   /** The requestAnimationFrame timestamp (ms). */
   readonly time: number;
-  /** The solve this frame drew first (ms); NaN when the frame only redrew. */
+  /** The solve this frame drew first (ms); NaN when it drew no new pose. */
   readonly solveMs: number;
   /** Its round trip to the worker (ms); NaN when the frame only redrew. */
   readonly roundTripMs: number;

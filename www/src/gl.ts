@@ -1,6 +1,7 @@
 // The WebGL2 renderer: the picture as a premultiplied-alpha texture on the mesh. Texture
-// coordinates and triangles are uploaded once per mesh; positions are streamed every
-// frame (Float64Array from Puppet.updateInto → a reused Float32Array → bufferSubData).
+// coordinates and triangles are uploaded once per mesh; positions are streamed with every
+// new pose (the Float64Array the worker sent back → a reused Float32Array →
+// bufferSubData).
 // Shared vertices and one draw call leave no seams; the mesh extends a margin beyond the
 // opaque pixels, so the texture's own alpha draws the edge.
 

@@ -1,7 +1,8 @@
 // Pointer and keyboard input on the stage: pressing the shape pins it there and drags the
 // new pin, pressing a pin drags it, several pointers (fingers, pens, a mouse) drag several
 // pins at once, double-click or Delete removes a pin. Positions are in stage CSS pixels.
-// Moves only set targets; the frame loop solves once per animation frame.
+// Moves only set targets: the app sends the newest ones to the worker when it has answered
+// the previous ones, and draws once per animation frame.
 
 /** What the input acts on. */
 export interface PinBoard {

@@ -1,6 +1,7 @@
-// What the page tells the user: pin count, mesh size, renderer, solve time and frame rate
-// (refreshed a few times a second, not every frame), and messages — errors included, so
-// that nothing the library throws ends up as an uncaught exception.
+// What the page tells the user: pin count, mesh size, renderer, the worker's solve time and
+// the frame rate (refreshed a few times a second, not every frame), and messages — errors
+// included (the library's, sent back by the worker, too), so that nothing thrown ends up
+// as an uncaught exception.
 
 const REFRESH_MS = 250;
 
