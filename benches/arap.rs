@@ -25,7 +25,7 @@ fn main() {
             for _ in 0..reps {
                 let m = mesh.clone();
                 register.push(ms(|| {
-                    rest = Some(Rest::register(m, Options { weights, ..Options::default() }).unwrap())
+                    rest = Some(Rest::register(m, Options { weights, ..Options::two_step() }).unwrap())
                 }));
             }
             let rest = rest.unwrap();

@@ -34,7 +34,7 @@ fn main() {
     let options = ImageOptions { spacing: Some(6.0), ..ImageOptions::default() };
     let shape = mesh_image(&rgba, size, size, &options).expect("the character meshes");
     let uvs = shape.uvs().to_vec();
-    let rest = Rest::register(shape.mesh().clone(), Options::default()).expect("registers");
+    let rest = Rest::register(shape.mesh().clone(), Options::two_step()).expect("registers");
     let s = size as f64;
     let pins = [[0.5 * s, 0.2 * s], [0.36 * s, 0.9 * s], [0.64 * s, 0.9 * s], [0.18 * s, 0.56 * s]];
     let mut pinned = rest.compile(&pins.map(Handle::Point)).expect("compiles");

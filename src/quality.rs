@@ -90,6 +90,10 @@ pub struct Quality {
     pub edge_strain: Summary,
     /// The number of flipped triangles.
     pub flipped: usize,
+    /// The number of interior vertices whose one-ring winds other than once around them
+    /// (see [`winding_defects`]): a map can fold over itself there even when no triangle
+    /// is flipped.
+    pub winding_defects: usize,
 }
 
 /// The distortion of the map from the rest triangle `rest` (counter-clockwise, non-degenerate)
@@ -131,6 +135,7 @@ fn check_positions(positions: &[[f64; 2]]) -> Result<()> {
 
 fn assemble(
     triangles: Vec<TriangleQuality>,
+    indices: &[[u32; 3]],
     edges: &[Edge],
     rest_length: impl Fn(&Edge) -> f64,
     positions: &[[f64; 2]],
@@ -149,8 +154,33 @@ fn assemble(
         area_ratio: pick(|t| t.area_ratio),
         edge_strain: Summary::of(&strain),
         flipped: triangles.iter().filter(|t| t.flipped).count(),
+        winding_defects: winding_defects(indices, edges, positions),
         triangles,
     }
+}
+
+/// The number of interior vertices (on no boundary edge) whose one-ring winds other than
+/// once around them in `positions`: the signed corner angles of the triangles around a
+/// vertex sum to `2π × winding`, and an injective map has winding 1 everywhere. A
+/// triangle-positive map can still wrap a one-ring twice (a branch point); a flipped
+/// triangle counts with a negative angle.
+pub fn winding_defects(triangles: &[[u32; 3]], edges: &[Edge], positions: &[[f64; 2]]) -> usize {
+    let n = positions.len();
+    let mut boundary = vec![false; n];
+    for e in edges.iter().filter(|e| e.is_boundary()) {
+        boundary[e.i as usize] = true;
+        boundary[e.j as usize] = true;
+    }
+    let mut turn = vec![0.0f64; n];
+    for tri in triangles {
+        for k in 0..3 {
+            let (v, a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            let (p, q, o) = (positions[a], positions[b], positions[v]);
+            let (u, w) = ([p[0] - o[0], p[1] - o[1]], [q[0] - o[0], q[1] - o[1]]);
+            turn[v] += (u[0] * w[1] - u[1] * w[0]).atan2(u[0] * w[0] + u[1] * w[1]);
+        }
+    }
+    (0..n).filter(|&v| !boundary[v] && (turn[v] / std::f64::consts::TAU).round() != 1.0).count()
 }
 
 /// The distortion of `positions` (one per vertex) against the 2D rest shape `mesh`.
@@ -168,7 +198,7 @@ pub fn quality_2d(mesh: &Mesh, positions: &[[f64; 2]]) -> Result<Quality> {
         let (a, b) = (v[e.i as usize], v[e.j as usize]);
         (b[0] - a[0]).hypot(b[1] - a[1])
     };
-    Ok(assemble(per, mesh.edges(), length, positions))
+    Ok(assemble(per, mesh.triangles(), mesh.edges(), length, positions))
 }
 
 /// The distortion of the flattening `positions` (one per vertex) against the 3D surface,
@@ -185,5 +215,5 @@ pub fn quality_3d(surface: &Surface, positions: &[[f64; 2]]) -> Result<Quality> 
         .collect();
     let v = surface.vertices();
     let length = |e: &Edge| norm(sub(v[e.j as usize], v[e.i as usize]));
-    Ok(assemble(per, surface.edges(), length, positions))
+    Ok(assemble(per, surface.triangles(), surface.edges(), length, positions))
 }

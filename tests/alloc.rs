@@ -69,7 +69,7 @@ fn update_does_not_allocate() {
     assert!(shape.vertices.len() > 2000);
     let n = shape.vertices.len();
     for weights in [EdgeWeights::Uniform, EdgeWeights::Cotangent] {
-        let rest = Rest::register(shape.mesh(), Options { weights, ..Options::default() }).unwrap();
+        let rest = Rest::register(shape.mesh(), Options { weights, ..Options::two_step() }).unwrap();
         let hs: Vec<[f64; 2]> = [[1.0, 1.0], [43.0, 43.0], [43.0, 1.0], [20.0, 30.0]]
             .iter()
             .map(|&p| inside_point_near(rest.mesh(), p))

@@ -14,7 +14,7 @@ use common::{
 const WEIGHTS: [EdgeWeights; 2] = [EdgeWeights::Uniform, EdgeWeights::Cotangent];
 
 fn register(shape: &Shape, weights: EdgeWeights) -> Rest {
-    Rest::register(shape.mesh(), Options { weights, ..Options::default() }).unwrap()
+    Rest::register(shape.mesh(), Options { weights, ..Options::two_step() }).unwrap()
 }
 
 /// Rest-space points strictly inside the triangles nearest to `near`.
@@ -571,7 +571,7 @@ fn clockwise_input_is_reoriented() {
         assert_eq!(flat.edges(), mesh.edges());
         assert_eq!(mesh.edges(), ccw.mesh().edges());
         for weights in WEIGHTS {
-            let options = Options { weights, ..Options::default() };
+            let options = Options { weights, ..Options::two_step() };
             let rest_ccw = Rest::register(ccw.mesh(), options).unwrap();
             let rest_in = Rest::register(mesh.clone(), options).unwrap();
             let hs = vec![
@@ -679,7 +679,7 @@ fn a_fan_of_long_slivers_registers_and_locates() {
     }
     let triangles: Vec<[u32; 3]> = (0..t as u32).map(|k| [0, k + 1, k + 2]).collect();
     let mesh = Mesh::new(vertices, triangles).unwrap();
-    let rest = Rest::register(mesh, Options::default()).unwrap();
+    let rest = Rest::register(mesh, Options::two_step()).unwrap();
     for p in [[50.0, 50.0], [1.0, 0.001], [70.0, 0.5], [0.3, 90.0]] {
         let l = rest.locate(p).unwrap_or_else(|| panic!("{p:?} is inside the fan"));
         let q = rest.mesh().point_at(l.triangle as usize, l.weights);

@@ -396,7 +396,7 @@ fn compare(
     let want = reference.solve(targets).step2;
     let mesh = shape.mesh();
     assert_eq!(mesh.triangles(), &shape.triangles[..], "{name}: test shapes are counter-clockwise");
-    let rest = Rest::register(mesh, Options { weights, ..Options::default() }).unwrap();
+    let rest = Rest::register(mesh, Options { weights, ..Options::two_step() }).unwrap();
     let d = diameter(&shape.vertices);
     let mut worst: f64 = 0.0;
     for as_points in [true, false] {
@@ -542,7 +542,7 @@ fn matches_dense_reference_with_other_handle_weight() {
     let w = 3.0;
     let reference = Reference::new(&shape.vertices, &shape.triangles, false, w, &handles);
     let want = reference.solve(&targets).step2;
-    let rest = Rest::register(shape.mesh(), Options { handle_weight: w, ..Options::default() }).unwrap();
+    let rest = Rest::register(shape.mesh(), Options { handle_weight: w, ..Options::two_step() }).unwrap();
     let mut pinned = rest.compile(&bunraku_handles(&shape, &handles, true)).unwrap();
     let got = pinned.update(&targets).unwrap().to_vec();
     let d = diameter(&shape.vertices);
@@ -572,7 +572,7 @@ fn uniform_scaling_inflates_step1_and_step2_restores_lengths() {
         edge_lengths(&edges, positions).iter().zip(&rest_len).map(|(a, b)| a / b).collect()
     };
     let d = diameter(&shape.vertices);
-    let rest = Rest::register(shape.mesh(), Options::default()).unwrap();
+    let rest = Rest::register(shape.mesh(), Options::two_step()).unwrap();
     for near in [vec![[5.0, 4.0], [7.0, 4.0]], vec![[5.0, 3.0], [7.0, 3.0], [6.0, 5.0]]] {
         let handles = handles_near(&shape, &near);
         let points = handle_points(&shape, &handles);

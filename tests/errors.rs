@@ -20,7 +20,7 @@ impl Witness {
     fn new() -> Witness {
         let shape = Grid::new(6, 4).jitter(0.2, 21).shape();
         let rest =
-            Rest::register(shape.mesh(), Options { weights: EdgeWeights::Cotangent, ..Options::default() })
+            Rest::register(shape.mesh(), Options { weights: EdgeWeights::Cotangent, ..Options::two_step() })
                 .unwrap();
         let handles = [Handle::Point([0.4, 0.3]), Handle::Vertex(20), Handle::Point([5.6, 3.7])];
         let mut pinned = rest.compile(&handles).unwrap();
@@ -214,7 +214,10 @@ fn options_bad_handle_weight() {
     let mut w = Witness::new();
     for bad in [f64::NAN, 0.0, -0.0, -1.0, -1000.0, f64::INFINITY, f64::NEG_INFINITY] {
         for weights in [EdgeWeights::Uniform, EdgeWeights::Cotangent] {
-            match Rest::register(square().mesh(), Options { weights, handle_weight: bad }) {
+            match Rest::register(
+                square().mesh(),
+                Options { weights, handle_weight: bad, ..Options::two_step() },
+            ) {
                 Err(Error::BadOption { name: "handle_weight", .. }) => {}
                 other => panic!("handle_weight {bad}: got {other:?}"),
             }
@@ -223,7 +226,7 @@ fn options_bad_handle_weight() {
     }
     // Small and large finite positive weights are fine.
     for good in [1e-3, 1.0, 1e6] {
-        Rest::register(square().mesh(), Options { handle_weight: good, ..Options::default() }).unwrap();
+        Rest::register(square().mesh(), Options { handle_weight: good, ..Options::two_step() }).unwrap();
     }
 }
 
@@ -246,7 +249,7 @@ fn compile_handle_outside_names_it() {
     );
     w.check("handle outside");
     // In the hole of a ring: inside its bounding box, outside the shape.
-    let ring = Rest::register(annulus([0.0, 0.0], 1.0, 2.0, 2, 16).mesh(), Options::default()).unwrap();
+    let ring = Rest::register(annulus([0.0, 0.0], 1.0, 2.0, 2, 16).mesh(), Options::two_step()).unwrap();
     assert_eq!(
         compile_err(&ring, &[Handle::Point([1.5, 0.0]), Handle::Point([0.0, 0.0])]),
         Error::HandleOutside { handle: 1, point: [0.0, 0.0] }
@@ -355,7 +358,7 @@ fn compile_coincident_handles_names_both() {
 fn compile_accepts_points_on_the_boundary() {
     let mut w = Witness::new();
     let shape = Grid::new(6, 4).shape();
-    let rest = Rest::register(shape.mesh(), Options::default()).unwrap();
+    let rest = Rest::register(shape.mesh(), Options::two_step()).unwrap();
     let d = rest.mesh().diameter();
     let on_edge = [2.5, 0.0]; // the bottom edge
     let on_vertex = [6.0, 4.0]; // the top right corner
@@ -452,7 +455,7 @@ fn messages_name_the_offender() {
 fn accepted_handle_weights_compile() {
     let shape = Grid::new(4, 3).shape();
     for handle_weight in [1e-12, 1e-8, 1e-6, 1.0, 1e6, 1e8, 1e12] {
-        match Rest::register(shape.mesh(), Options { handle_weight, ..Options::default() }) {
+        match Rest::register(shape.mesh(), Options { handle_weight, ..Options::two_step() }) {
             Err(Error::BadOption { name: "handle_weight", .. }) => {}
             Err(other) => panic!("handle_weight {handle_weight}: register failed with {other:?}"),
             Ok(rest) => {
@@ -470,7 +473,7 @@ fn accepted_handle_weights_compile() {
 #[test]
 fn huge_targets_are_rejected() {
     let shape = Grid::new(4, 3).shape();
-    let rest = Rest::register(shape.mesh(), Options::default()).unwrap();
+    let rest = Rest::register(shape.mesh(), Options::two_step()).unwrap();
     let mut pinned = rest.compile(&[Handle::Point([0.5, 0.5]), Handle::Point([3.5, 2.5])]).unwrap();
     let before = pinned.update(&[[0.0, 0.0], [4.0, 3.0]]).unwrap().to_vec();
     match pinned.update(&[[0.0, 0.0], [4.0, 1.8e302]]) {

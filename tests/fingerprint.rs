@@ -154,7 +154,7 @@ fn mesh_image_character() {
 #[test]
 fn two_step_grid_uniform_basis() {
     let mesh = Grid::new(12, 8).jitter(0.2, 7).mesh();
-    let rest = Rest::register(mesh, Options::default()).unwrap();
+    let rest = Rest::register(mesh, Options::two_step()).unwrap();
     let handles = [Handle::Point([0.5, 0.5]), Handle::Point([11.5, 0.5]), Handle::Point([6.0, 7.5])];
     let mut h = Hash::new();
     drag(&rest, &handles, &[[0.0, 0.0], [3.0, 4.0], [-2.0, 1.0]], 6, &mut h);
@@ -164,7 +164,7 @@ fn two_step_grid_uniform_basis() {
 #[test]
 fn two_step_grid_cotangent_basis() {
     let mesh = Grid::new(10, 10).jitter(0.2, 3).triangular().mesh();
-    let options = Options { weights: EdgeWeights::Cotangent, handle_weight: 250.0 };
+    let options = Options { weights: EdgeWeights::Cotangent, handle_weight: 250.0, ..Options::two_step() };
     let rest = Rest::register(mesh, options).unwrap();
     let handles = [Handle::Point([0.5, 0.5]), Handle::Point([9.0, 7.5]), Handle::Vertex(5)];
     let mut h = Hash::new();
@@ -177,7 +177,7 @@ fn two_step_annulus_solve_path() {
     // More than 16 handles: step 1 is back-substituted on every update.
     let mesh = annulus([3.0, -2.0], 1.0, 2.5, 6, 40).mesh();
     let rest =
-        Rest::register(mesh, Options { weights: EdgeWeights::Cotangent, ..Options::default() }).unwrap();
+        Rest::register(mesh, Options { weights: EdgeWeights::Cotangent, ..Options::two_step() }).unwrap();
     let handles: Vec<Handle> = (0..20)
         .map(|k| {
             let a = k as f64 * std::f64::consts::TAU / 20.0;
@@ -195,7 +195,7 @@ fn two_step_annulus_solve_path() {
 fn two_step_components_and_handle_kinds() {
     let shape = common::two_components();
     let mesh = shape.mesh();
-    let rest = Rest::register(mesh.clone(), Options::default()).unwrap();
+    let rest = Rest::register(mesh.clone(), Options::two_step()).unwrap();
     let t = mesh.triangles().len() as u32 - 1;
     let handles = [
         Handle::Vertex(0),
@@ -212,7 +212,7 @@ fn two_step_star_3k_drag() {
     let outline = star(5, 0.5, 1.0);
     let mesh = mesh_outline(&outline, &[], &OutlineOptions::new().with_spacing(0.033)).unwrap();
     let rest =
-        Rest::register(mesh, Options { weights: EdgeWeights::Cotangent, ..Options::default() }).unwrap();
+        Rest::register(mesh, Options { weights: EdgeWeights::Cotangent, ..Options::two_step() }).unwrap();
     let tips: Vec<Handle> =
         outline.iter().step_by(2).map(|p| Handle::Point([0.9 * p[0], 0.9 * p[1]])).collect();
     let moves = [[0.4, 0.6], [0.0, 0.0], [-0.2, 0.1], [0.0, 0.0], [0.7, -0.3]];
@@ -250,7 +250,7 @@ fn flatten_height_field_uniform_pins() {
 fn quality_of_a_pose() {
     let (v, t) = disc(8);
     let mesh = Mesh::new(v, t).unwrap();
-    let rest = Rest::register(mesh.clone(), Options::default()).unwrap();
+    let rest = Rest::register(mesh.clone(), Options::two_step()).unwrap();
     let mut pinned = rest.compile(&[Handle::Point([-0.5, 0.0]), Handle::Point([0.5, 0.0])]).unwrap();
     let out = pinned.update(&[[-0.5, 0.0], [0.9, 0.6]]).unwrap().to_vec();
     let q = bunraku::quality::quality_2d(&mesh, &out).unwrap();

@@ -137,7 +137,7 @@ fn check(shape: &ShapeMesh, rgba: &[u8], w: u32, h: u32, o: &ImageOptions) -> us
     assert_eq!(edges, mesh.boundary_edges().count());
     // Registers and compiles two handles.
     let components = mesh.component_count();
-    let rest = Rest::register(mesh.clone(), Options::default()).expect("registers");
+    let rest = Rest::register(mesh.clone(), Options::two_step()).expect("registers");
     let last = (v.len() - 1) as u32;
     rest.compile(&[Handle::Vertex(0), Handle::Vertex(last)]).expect("compiles");
     components
@@ -330,6 +330,6 @@ fn tiny_pictures() {
         let o = ImageOptions { min_area: 0.0, ..ImageOptions::default() };
         let shape = mesh_image(&full, w, h, &o).expect("meshes");
         assert!(shape.mesh().vertices().iter().all(|p| p[0] <= w as f64 && p[1] <= h as f64));
-        Rest::register(shape.into_mesh(), Options::default()).expect("registers");
+        Rest::register(shape.into_mesh(), Options::two_step()).expect("registers");
     }
 }

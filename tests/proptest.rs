@@ -11,7 +11,7 @@ fn valid_or_clear(result: Result<bunraku::Mesh, Error>) -> Result<(), TestCaseEr
     match result {
         Ok(mesh) => {
             prop_assert!(!mesh.triangles().is_empty());
-            Rest::register(mesh, Options::default())
+            Rest::register(mesh, Options::two_step())
                 .map_err(|e| TestCaseError::fail(format!("register: {e}")))?;
         }
         Err(e) => prop_assert!(!e.to_string().is_empty()),

@@ -30,7 +30,9 @@
 //! statelessness, f64, components) are numbered in [`crate::conventions`]; departures from
 //! the paper are said where they are made.
 
+pub mod clock;
 mod components;
+pub(crate) mod injective;
 mod pinned;
 pub mod pins;
 mod rest;
@@ -41,6 +43,8 @@ mod step2;
 pub(crate) mod system;
 pub(crate) mod two_step;
 
+pub use clock::set_clock;
+pub use injective::Report;
 pub use pinned::Pinned;
 pub use pins::{Handle, Pin, PinKind, Target};
 pub use rest::Rest;
@@ -70,6 +74,44 @@ pub enum EdgeWeights {
     Cotangent,
 }
 
+/// How an update computes the shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Igarashi & Igarashi 2009 exactly: step 1, the rotation fit, step 2. Stateless (the
+    /// result depends on the targets alone), two back-substitutions per update, and no
+    /// guarantee: a far drag can fold triangles over.
+    TwoStep,
+    /// Weng et al. 2006 (sections 3–5): the two-step result refined by Gauss–Newton
+    /// iterations on boundary Laplacian coordinates, mean-value coordinates and edge
+    /// lengths, with an optional global area constraint. Stateless; one back-substitution
+    /// per iteration; no guarantee either.
+    Nonlinear,
+    /// Locally injective after every update: no triangle with a non-positive area, no
+    /// one-ring winding other than once. Warm-started from the previous result, with a
+    /// time budget per update; pins that cannot be reached without folding lag behind.
+    #[default]
+    Injective,
+}
+
+/// The weight of each term of the nonlinear method's energy (Weng et al. 2006, equation 6:
+/// "we also allow the user to specify a weighting parameter for each energy term"). The
+/// rows of each term are multiplied by its weight (its energy by the square).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TermWeights {
+    /// The boundary curve's Laplacian coordinates (section 3.1). Default 1.
+    pub laplacian: f64,
+    /// The mean-value coordinates of the interior vertices (section 3.2). Default 1.
+    pub mean_value: f64,
+    /// The edge lengths (section 3.3). Default 1.
+    pub edge_length: f64,
+}
+
+impl Default for TermWeights {
+    fn default() -> Self {
+        TermWeights { laplacian: 1.0, mean_value: 1.0, edge_length: 1.0 }
+    }
+}
+
 /// Registration options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
@@ -79,11 +121,63 @@ pub struct Options {
     /// [conventions](crate::conventions) 4). Default 1000 (section 4.1). Must lie in
     /// [`HANDLE_WEIGHT_RANGE`].
     pub handle_weight: f64,
+    /// How an update computes the shape. Default: [`Method::Injective`].
+    pub method: Method,
+    /// The nonlinear method's Gauss–Newton iterations per update. Default
+    /// [`DEFAULT_ITERATIONS`]; 0 gives the two-step result.
+    pub iterations: u32,
+    /// The nonlinear method's global area constraint (Weng et al. 2006, section 5). Default
+    /// off.
+    pub preserve_area: bool,
+    /// The nonlinear method's term weights.
+    pub term_weights: TermWeights,
+    /// The injective method's time budget per update, in milliseconds. Default
+    /// [`DEFAULT_BUDGET_MS`].
+    pub budget_ms: f64,
+    /// `λ ≥ 0`: the regularisation of Martinez Esturo et al., baked into the normal
+    /// matrices of the two-step and nonlinear methods. Default 0 (none).
+    pub regularization: f64,
 }
+
+/// The default of [`Options::iterations`].
+pub const DEFAULT_ITERATIONS: u32 = 4;
+
+/// The most nonlinear iterations an update may make.
+pub const MAX_ITERATIONS: u32 = 1000;
+
+/// The default of [`Options::budget_ms`]: well inside a 60 fps frame together with the
+/// drawing.
+pub const DEFAULT_BUDGET_MS: f64 = 8.0;
 
 impl Default for Options {
     fn default() -> Self {
-        Options { weights: EdgeWeights::Uniform, handle_weight: 1000.0 }
+        Options {
+            weights: EdgeWeights::Uniform,
+            handle_weight: 1000.0,
+            method: Method::Injective,
+            iterations: DEFAULT_ITERATIONS,
+            preserve_area: false,
+            term_weights: TermWeights::default(),
+            budget_ms: DEFAULT_BUDGET_MS,
+            regularization: 0.0,
+        }
+    }
+}
+
+impl Options {
+    /// The defaults with [`Method::TwoStep`]: Igarashi & Igarashi 2009 as the paper has it.
+    pub fn two_step() -> Options {
+        Options { method: Method::TwoStep, ..Options::default() }
+    }
+
+    /// Sets [`Options::method`].
+    pub fn with_method(self, method: Method) -> Options {
+        Options { method, ..self }
+    }
+
+    /// Sets [`Options::weights`].
+    pub fn with_weights(self, weights: EdgeWeights) -> Options {
+        Options { weights, ..self }
     }
 }
 
@@ -101,6 +195,40 @@ pub(crate) fn check_handle_weight(w: f64) -> Result<()> {
     Ok(())
 }
 
+/// Checks every option, naming the first bad one.
 pub(crate) fn check_options(options: &Options) -> Result<()> {
-    check_handle_weight(options.handle_weight)
+    check_handle_weight(options.handle_weight)?;
+    let bad = |name: &'static str, value: f64, reason: &str| {
+        Err(Error::BadOption { name, value: Some(value), reason: reason.into() })
+    };
+    let b = options.budget_ms;
+    if !(b.is_finite() && b > 0.0) {
+        return bad("budget_ms", b, "is not a finite positive number of milliseconds");
+    }
+    let l = options.regularization;
+    if !(l.is_finite() && l >= 0.0) {
+        return bad("regularization", l, "is not a finite number ≥ 0");
+    }
+    if l > 0.0 && options.method == Method::Injective {
+        return bad(
+            "regularization",
+            l,
+            "applies to the two-step and nonlinear methods only (the injective method needs none)",
+        );
+    }
+    if options.iterations > MAX_ITERATIONS {
+        return bad("iterations", options.iterations as f64, &format!("is more than {MAX_ITERATIONS}"));
+    }
+    let t = options.term_weights;
+    for (name, w) in
+        [("laplacian", t.laplacian), ("mean_value", t.mean_value), ("edge_length", t.edge_length)]
+    {
+        if !(w.is_finite() && (0.0..=1e6).contains(&w)) {
+            return bad(name, w, "is not a term weight in [0, 10⁶]");
+        }
+    }
+    if t.edge_length == 0.0 && t.mean_value == 0.0 {
+        return bad("edge_length", 0.0, "and mean_value both 0 leave the interior unconstrained");
+    }
+    Ok(())
 }

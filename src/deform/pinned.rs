@@ -2,14 +2,18 @@
 //! "compilation" and "interactive update").
 
 use super::components::{place_unsolved, vertex_motion, Motion};
+use super::injective::{Injective, Report};
 use super::pins::{resolve_handle, Pin, PinRow};
 use super::rest::Rest;
 use super::step1::Step1Form;
+use super::step2::Step2;
 use super::two_step::TwoStep;
+use super::Method;
 use crate::error::{check_finite, Error, Result};
 use crate::geometry::{dot, sub};
 use crate::limits::MAX_COORDINATE;
 use crate::locate::{Location, BOUNDARY_TOLERANCE};
+use crate::solver::Factor;
 
 /// A compiled pin set on a [`Rest`] shape, with both numeric factorisations and every
 /// buffer an update needs. It can only be updated; compile the [`Rest`] again (see
@@ -21,13 +25,22 @@ pub struct Pinned {
     locations: Vec<Location>,
     points: Vec<[f64; 2]>,
     vertex_motion: Vec<Motion>,
-    two_step: TwoStep,
+    solver: Solver,
     positions: Vec<[f64; 2]>,
+    report: Report,
+}
+
+/// The method's numeric state.
+#[derive(Debug)]
+enum Solver {
+    TwoStep(Box<TwoStep>),
+    Injective(Box<Injective>),
 }
 
 impl Pinned {
-    /// See [`Rest::compile_pins`].
-    pub(crate) fn compile(rest: &Rest, pins: &[Pin]) -> Result<Pinned> {
+    /// See [`Rest::compile_pins`]; the injective method starts from `start` (the rest
+    /// shape when `None`, or where it is not injective).
+    pub(crate) fn compile(rest: &Rest, pins: &[Pin], start: Option<&[[f64; 2]]>) -> Result<Pinned> {
         let data = &rest.0;
         let mesh = &data.mesh;
         let locations: Vec<Location> =
@@ -61,15 +74,40 @@ impl Pinned {
                 values.set_identity(system, v);
             }
         }
-        let two_step = TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?;
+        let start = start.unwrap_or(mesh.vertices());
+        let solver = match data.options.method {
+            Method::TwoStep | Method::Nonlinear => {
+                Solver::TwoStep(Box::new(TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?))
+            }
+            Method::Injective => {
+                // Only step 2's factor: it preconditions the Newton systems.
+                let step2 = Step2::new(system, Factor::new(&system.step2, &values.step2)?);
+                Solver::Injective(Box::new(Injective::new(
+                    system,
+                    mesh,
+                    &vertex_motion,
+                    rows,
+                    w,
+                    step2,
+                    start,
+                )))
+            }
+        };
+        let mut positions = mesh.vertices().to_vec();
+        if let Solver::Injective(injective) = &solver {
+            for (p, q) in positions.iter_mut().zip(injective.positions()) {
+                *p = q;
+            }
+        }
         Ok(Pinned {
             rest: rest.clone(),
             pins: pins.to_vec(),
             locations,
             points,
             vertex_motion,
-            two_step,
-            positions: mesh.vertices().to_vec(),
+            solver,
+            positions,
+            report: Report { converged: true, ..Report::default() },
         })
     }
 
@@ -114,9 +152,53 @@ impl Pinned {
     pub fn update(&mut self, targets: &[[f64; 2]]) -> Result<&[[f64; 2]]> {
         self.check_targets(targets)?;
         let rest = &self.rest.0;
-        self.two_step.solve(&rest.system, targets, &mut self.positions);
+        match &mut self.solver {
+            Solver::TwoStep(two_step) => {
+                two_step.solve(&rest.system, targets, &mut self.positions);
+                self.report = Report { converged: true, iterations: 0, solves: 2, ..Report::default() };
+            }
+            Solver::Injective(injective) => {
+                self.report = injective.solve(&rest.system, targets, rest.options.budget_ms);
+                for (p, q) in self.positions.iter_mut().zip(injective.positions()) {
+                    *p = q;
+                }
+            }
+        }
         place_unsolved(&self.vertex_motion, rest.mesh.vertices(), &self.points, targets, &mut self.positions);
+        self.report.lag = self.lag(targets);
         Ok(&self.positions)
+    }
+
+    /// What the last update did: the pins' largest miss, whether it converged, its work.
+    pub fn report(&self) -> Report {
+        self.report
+    }
+
+    /// Returns the state to the rest shape (the injective method's warm start; the stateless
+    /// methods have none): the positions become the rest positions.
+    pub fn reset(&mut self) {
+        let rest = self.rest.0.mesh.vertices();
+        if let Solver::Injective(injective) = &mut self.solver {
+            injective.reset(rest);
+        }
+        self.positions.copy_from_slice(rest);
+        self.report = Report { converged: true, ..Report::default() };
+    }
+
+    /// The largest distance between a pin's point on the positions and its target.
+    fn lag(&self, targets: &[[f64; 2]]) -> f64 {
+        let mesh = &self.rest.0.mesh;
+        let mut lag = 0.0f64;
+        for (l, t) in self.locations.iter().zip(targets) {
+            let tri = mesh.triangles()[l.triangle as usize];
+            let mut p = [0.0; 2];
+            for (&v, &w) in tri.iter().zip(&l.weights) {
+                p[0] += w * self.positions[v as usize][0];
+                p[1] += w * self.positions[v as usize][1];
+            }
+            lag = lag.max((p[0] - t[0]).hypot(p[1] - t[1]));
+        }
+        lag
     }
 
     /// [`Pinned::update`] writing into `out` (one point per vertex).

@@ -77,6 +77,23 @@ impl Rest {
 
     /// [`Rest::compile`] for pins of any kind.
     pub fn compile_pins(&self, pins: &[Pin]) -> Result<Pinned> {
-        Pinned::compile(self, pins)
+        Pinned::compile(self, pins, None)
+    }
+
+    /// [`Rest::compile_pins`] keeping a pose: the injective method starts from `positions`
+    /// (one per vertex, e.g. the previous pin set's [`Pinned::positions`]) instead of the
+    /// rest shape, so a pin added mid-pose does not make the shape jump when its first
+    /// target is where its rest point now is. Components where `positions` is not
+    /// injective start from rest. The stateless methods ignore `positions`.
+    ///
+    /// Errors: those of [`Rest::compile`], and [`crate::Error::CountMismatch`] /
+    /// [`crate::Error::NonFinite`] for `positions`.
+    pub fn compile_pins_from(&self, pins: &[Pin], positions: &[[f64; 2]]) -> Result<Pinned> {
+        let n = self.0.mesh.vertices().len();
+        if positions.len() != n {
+            return Err(crate::Error::CountMismatch { what: "positions", got: positions.len(), expected: n });
+        }
+        crate::error::check_finite("positions", positions)?;
+        Pinned::compile(self, pins, Some(positions))
     }
 }

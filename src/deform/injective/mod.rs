@@ -1,0 +1,412 @@
+//! The injective method: every update returns a locally injective map (no triangle with a
+//! non-positive area, no interior one-ring winding other than once), whatever the targets.
+//!
+//! Three parts make the guarantee, whatever search direction is used:
+//!
+//! 1. a flip-free start: the previous result (warm start), the rest shape at first;
+//! 2. an energy that grows without bound as a triangle collapses: the symmetric Dirichlet
+//!    distortion ([`energy`]);
+//! 3. a step that never crosses a zero area: the largest step before any triangle inverts,
+//!    times 0.8 (Smith and Schaefer 2015, [`max_step`]), then Armijo backtracking on an
+//!    energy that is `+∞` at any non-positive area.
+//!
+//! A winding number is an integer that changes only through a degenerate triangle, so a path
+//! of such steps from the rest shape never creates a winding defect either.
+//!
+//! The search direction is projected Newton: conjugate gradients ([`pcg`]) on the
+//! per-triangle PSD-projected Hessian, preconditioned by step 2's normal matrix `2 A2ᵀA2`
+//! (already factorised at compilation), with an adaptive forcing term `η = 0.1`. An update
+//! runs Newton iterations until it converges or its time budget is spent, so a frame never
+//! stalls; a pin whose target cannot be reached without folding the picture lags behind,
+//! and [`Report::lag`] says by how much. Calling update again with the same targets (idle
+//! frames) continues where the last one stopped.
+//!
+//! Departures from the research notes' prototype: components with fewer than two pins
+//! move as [conventions](crate::conventions) 8 says (exact rigid motions, which are
+//! injective); the pins' rows are the two-step method's own, so `handleWeight` means the
+//! same for every method.
+
+pub(crate) mod energy;
+pub(crate) mod max_step;
+pub(crate) mod pcg;
+
+use energy::{curvatures, distortion, distortion_gradient, distortion_hessian_times, Curvature, Element};
+use max_step::max_step;
+use pcg::{axpy, dot, Operator, Pcg, Stop};
+
+use super::clock::Budget;
+use super::components::Motion;
+use super::pins::PinRow;
+use super::step2::Step2;
+use super::system::System;
+use crate::mesh::Mesh;
+use crate::solver::Pair;
+
+/// What the last update did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Report {
+    /// The largest distance between a pin's point on the result and its target, in the
+    /// mesh's units. 0 up to round-off for the two-step and nonlinear methods' exact pins
+    /// (they are soft rows of weight `w`, so a far drag leaves a small miss there too).
+    pub lag: f64,
+    /// Whether the result is the method's answer for these targets: always for the
+    /// stateless methods; for the injective method, whether its iteration converged (call
+    /// update again with the same targets to continue).
+    pub converged: bool,
+    /// Newton (injective) or Gauss–Newton (nonlinear) iterations made.
+    pub iterations: usize,
+    /// Back-substitutions made (both steps count one each; a complex step-1 solve counts
+    /// one).
+    pub solves: usize,
+    /// Milliseconds the update took.
+    pub elapsed_ms: f64,
+    /// The longest single step of the iteration (a conjugate-gradient step, or a Newton
+    /// iteration's own work), in milliseconds: an update overshoots its budget by at most
+    /// about this much.
+    pub longest_step_ms: f64,
+}
+
+/// The largest forcing term of the inexact Newton steps; it shrinks as the iteration
+/// converges (see [`forcing`]).
+const FORCING: f64 = 0.1;
+/// The most conjugate-gradient steps per Newton step.
+const CG_CAP: usize = 40;
+/// The most conjugate-gradient steps per Newton step of an update whose targets moved.
+const MOVE_CG_CAP: usize = 6;
+/// The most Newton iterations per update with the same targets as the last one (idle
+/// frames: the budget usually stops it first).
+const NEWTON_CAP: usize = 64;
+
+/// The most Newton iterations of an update whose targets moved: one that moves the pins
+/// and one that relaxes the shape around them. The relaxation continues at the next update,
+/// so a drag costs about the same every frame, and idle frames converge.
+const MOVE_NEWTON_CAP: usize = 2;
+/// Armijo's sufficient-decrease constant.
+const ARMIJO: f64 = 1e-4;
+/// The most halvings of a step.
+const BACKTRACKS: usize = 40;
+/// The fraction of the largest flip-free step taken at most.
+const STEP_FRACTION: f64 = 0.8;
+/// Converged when the Newton decrement `−gᵀp` falls below this times the energy scale
+/// (positions then within about `10⁻⁷` of an edge length of the minimiser).
+const DECREMENT_TOLERANCE: f64 = 1e-10;
+
+/// After its first Newton step, an update stops once the preconditioned gradient
+/// `gᵀM⁻¹g` falls below this times the energy scale (positions within a few percent of an
+/// edge length of the minimiser): a drag then costs about one Newton step per frame, and
+/// the following updates with the same targets (idle frames) polish the result down to
+/// [`DECREMENT_TOLERANCE`] before reporting it converged.
+const FRAME_TOLERANCE: f64 = 1e-3;
+
+/// Settled: a Newton step that moves no vertex by more than this fraction of the shape's
+/// diameter (a thousandth of a pixel on a 1000-pixel picture) ends the iteration, whatever
+/// the decrement says. Near a point pin the distortion concentrates and the Laplacian
+/// preconditioner converges slowly there, so the decrement can take many frames to fall
+/// to [`DECREMENT_TOLERANCE`] while nothing visible moves any more.
+const SETTLED: f64 = 1e-6;
+
+/// The smallest forcing term: smaller ones need more conjugate-gradient steps than a
+/// frame's budget holds, with this preconditioner, and an unfinished step makes little
+/// progress.
+const FORCING_FLOOR: f64 = 0.1;
+
+/// The forcing term for a gradient `g` with `gᵀM⁻¹g = rz`: `√(rz / scale)` within
+/// `[FORCING_FLOOR, FORCING]`, so that steps far from the minimiser stay cheap and the last
+/// ones converge fast (an Eisenstat–Walker-like choice on the preconditioned gradient).
+fn forcing(rz: f64, scale: f64) -> f64 {
+    (rz / scale).sqrt().clamp(FORCING_FLOOR, FORCING)
+}
+
+/// The state and buffers of the injective method for one compiled pin set.
+#[derive(Debug)]
+pub(crate) struct Injective {
+    elements: Vec<Element>,
+    triangles: Vec<[u32; 3]>,
+    curvature: Vec<Curvature>,
+    rows: Vec<PinRow>,
+    /// Whether each pin's row is part of the energy (its component is solved).
+    active: Vec<bool>,
+    w2: f64,
+    step2: Step2,
+    /// `μ Σ a_t`: the energy's scale.
+    scale: f64,
+    /// [`SETTLED`] times the shape's diameter.
+    settled: f64,
+    x: Vec<Pair>,
+    trial: Vec<Pair>,
+    grad: Vec<Pair>,
+    step: Vec<Pair>,
+    rhs: Vec<Pair>,
+    pcg: Pcg,
+    energy: f64,
+    /// The targets `energy` and `grad` were computed for.
+    targets: Vec<[f64; 2]>,
+    fresh: bool,
+    converged: bool,
+}
+
+impl Injective {
+    /// The method on `mesh` for the pins `rows` (weight `w`), preconditioned by `step2`
+    /// (the factor of `A2ᵀA2` for these pins), starting from `start` (which must be
+    /// injective on every solved component; the rest shape is used where it is not).
+    pub(crate) fn new(
+        system: &System,
+        mesh: &Mesh,
+        motion: &[Motion],
+        rows: Vec<PinRow>,
+        w: f64,
+        step2: Step2,
+        start: &[[f64; 2]],
+    ) -> Injective {
+        let n = system.n;
+        let rest = mesh.vertices();
+        // μ = Σ ω²|e|² / (8 Σ a): the Hessian at rest matches step 2's edge terms.
+        let edge_energy: f64 = system.stencils.iter().map(|s| s.weight * s.weight * s.edge.norm_sqr()).sum();
+        let mut solved_area = 0.0;
+        let mut all_area = 0.0;
+        let mut raw = Vec::with_capacity(mesh.triangles().len());
+        for tri in mesh.triangles() {
+            let [a, b, c] = tri.map(|v| rest[v as usize]);
+            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+            let det = e1[0] * e2[1] - e1[1] * e2[0];
+            all_area += 0.5 * det;
+            if motion[tri[0] as usize] == Motion::Solve {
+                solved_area += 0.5 * det;
+                let inv = [e2[1] / det, -e2[0] / det, -e1[1] / det, e1[0] / det];
+                raw.push((*tri, inv, 0.5 * det));
+            }
+        }
+        let mu = edge_energy / (8.0 * all_area);
+        let elements: Vec<Element> =
+            raw.into_iter().map(|(tri, inv, area)| Element { tri, inv, weight: mu * area }).collect();
+        let triangles = elements.iter().map(|e| e.tri).collect();
+        let active = rows.iter().map(|r| motion[r.first_vertex() as usize] == Motion::Solve).collect();
+        let mut x: Vec<Pair> = start.iter().map(|&p| Pair(p)).collect();
+        // Each solved component starts from `start` only if it is injective there.
+        if energy::smallest_det(&elements, &x) <= 0.0
+            || !x.iter().all(|p| p.0[0].is_finite() && p.0[1].is_finite())
+        {
+            x = rest.iter().map(|&p| Pair(p)).collect();
+        }
+        Injective {
+            curvature: vec![Curvature::default(); elements.len()],
+            elements,
+            triangles,
+            rows,
+            active,
+            w2: w * w,
+            step2,
+            scale: (mu * solved_area).max(f64::MIN_POSITIVE),
+            settled: SETTLED * mesh.diameter(),
+            trial: x.clone(),
+            grad: vec![Pair::default(); n],
+            step: vec![Pair::default(); n],
+            rhs: vec![Pair::default(); n],
+            pcg: Pcg::new(n),
+            x,
+            energy: f64::NAN,
+            targets: Vec::new(),
+            fresh: false,
+            converged: false,
+        }
+    }
+
+    /// The current positions (injective on every solved component).
+    pub(crate) fn positions(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
+        self.x.iter().map(|p| p.0)
+    }
+
+    /// Back to `rest`, which is injective.
+    pub(crate) fn reset(&mut self, rest: &[[f64; 2]]) {
+        for (x, r) in self.x.iter_mut().zip(rest) {
+            x.0 = *r;
+        }
+        self.fresh = false;
+        self.converged = false;
+    }
+
+    /// The pins' part of the energy, `Σ_h w² |B_h x − c_h|²`, adding its gradient
+    /// `2 w² Bᵀ(Bx − c)` to `grad` when given.
+    fn pins(&self, x: &[Pair], targets: &[[f64; 2]], mut grad: Option<&mut [Pair]>) -> f64 {
+        let mut sum = 0.0;
+        for ((row, t), _) in self.rows.iter().zip(targets).zip(&self.active).filter(|(_, &a)| a) {
+            let mut p = [0.0; 2];
+            for (v, weight) in row.terms() {
+                p[0] += weight * x[v as usize].0[0];
+                p[1] += weight * x[v as usize].0[1];
+            }
+            let d = [p[0] - t[0], p[1] - t[1]];
+            sum += self.w2 * (d[0] * d[0] + d[1] * d[1]);
+            if let Some(g) = grad.as_deref_mut() {
+                for (v, weight) in row.terms() {
+                    g[v as usize].0[0] += 2.0 * self.w2 * weight * d[0];
+                    g[v as usize].0[1] += 2.0 * self.w2 * weight * d[1];
+                }
+            }
+        }
+        sum
+    }
+
+    /// The largest pin miss at the current positions.
+    fn lag(&self, targets: &[[f64; 2]]) -> f64 {
+        let mut lag = 0.0f64;
+        for ((row, t), _) in self.rows.iter().zip(targets).zip(&self.active).filter(|(_, &a)| a) {
+            let mut p = [0.0; 2];
+            for (v, weight) in row.terms() {
+                p[0] += weight * self.x[v as usize].0[0];
+                p[1] += weight * self.x[v as usize].0[1];
+            }
+            lag = lag.max((p[0] - t[0]).hypot(p[1] - t[1]));
+        }
+        lag
+    }
+
+    /// Energy and gradient at the current positions into `self.energy`, `self.grad`.
+    fn evaluate(&mut self, targets: &[[f64; 2]]) {
+        self.grad.fill(Pair::default());
+        let d = distortion_gradient(&self.elements, &self.x, &mut self.grad);
+        let pins = {
+            let mut grad = std::mem::take(&mut self.grad);
+            let p = self.pins(&self.x, targets, Some(&mut grad));
+            self.grad = grad;
+            p
+        };
+        self.energy = d + pins;
+    }
+
+    /// Newton iterations towards the minimiser for `targets`, within `budget_ms`; writes
+    /// nothing but the state (read it with [`Injective::positions`]).
+    pub(crate) fn solve(&mut self, system: &System, targets: &[[f64; 2]], budget_ms: f64) -> Report {
+        let mut budget = Budget::new(budget_ms);
+        let moved = !self.fresh || self.targets.as_slice() != targets;
+        if moved {
+            self.targets.clear();
+            self.targets.extend_from_slice(targets);
+            self.evaluate(targets);
+            self.fresh = true;
+            self.converged = false;
+        }
+        let mut report = Report::default();
+        for _ in 0..if moved { MOVE_NEWTON_CAP } else { NEWTON_CAP } {
+            if self.converged || budget.expired() {
+                break;
+            }
+            report.iterations += 1;
+            curvatures(&self.elements, &self.x, &mut self.curvature);
+            for (r, g) in self.rhs.iter_mut().zip(&self.grad) {
+                *r = Pair([-g.0[0], -g.0[1]]);
+            }
+            let first = report.iterations == 1;
+            let scale = self.scale;
+            let mut op = Newton {
+                elements: &self.elements,
+                curvature: &self.curvature,
+                rows: &self.rows,
+                active: &self.active,
+                w2: self.w2,
+                step2: &mut self.step2,
+                system,
+                budget: &mut budget,
+            };
+            let (stop, k) = self.pcg.solve(
+                &self.rhs,
+                &mut self.step,
+                |rz| (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| forcing(rz, scale)),
+                if moved { MOVE_CG_CAP } else { CG_CAP },
+                &mut op,
+            );
+            report.solves += k + 1;
+            if stop == Stop::Declined {
+                report.iterations -= 1;
+                break;
+            }
+            let slope = dot(&self.grad, &self.step);
+            if slope.is_nan() || slope >= 0.0 {
+                // Not a descent direction (round-off at convergence).
+                self.converged = true;
+                break;
+            }
+            if -slope <= DECREMENT_TOLERANCE * self.scale {
+                self.converged = true;
+                break;
+            }
+            let mut t = (STEP_FRACTION * max_step(&self.triangles, &self.x, &self.step)).min(1.0);
+            let mut accepted = false;
+            for _ in 0..BACKTRACKS {
+                self.trial.copy_from_slice(&self.x);
+                axpy(t, &self.step, &mut self.trial);
+                let e = distortion(&self.elements, &self.trial) + self.pins(&self.trial, targets, None);
+                if e <= self.energy + ARMIJO * t * slope {
+                    accepted = e < self.energy;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                // No decrease is representable: as good as it gets.
+                self.converged = true;
+                break;
+            }
+            let largest = self.step.iter().map(|p| p.0[0].abs().max(p.0[1].abs())).fold(0.0, f64::max);
+            std::mem::swap(&mut self.x, &mut self.trial);
+            self.evaluate(targets);
+            if t * largest <= self.settled {
+                self.converged = true;
+                break;
+            }
+        }
+        report.converged = self.converged;
+        report.lag = self.lag(targets);
+        report.elapsed_ms = budget.elapsed();
+        report.longest_step_ms = budget.longest_step();
+        report
+    }
+}
+
+/// The Newton system at the current positions: the projected Hessian's products, the
+/// preconditioner `M = 2 A2ᵀA2` (step 2's factor), and the budget.
+struct Newton<'a> {
+    elements: &'a [Element],
+    curvature: &'a [Curvature],
+    rows: &'a [PinRow],
+    active: &'a [bool],
+    w2: f64,
+    step2: &'a mut Step2,
+    system: &'a System,
+    budget: &'a mut Budget,
+}
+
+impl Operator for Newton<'_> {
+    fn hessian_times(&mut self, v: &[Pair], out: &mut [Pair]) {
+        out.fill(Pair::default());
+        distortion_hessian_times(self.elements, self.curvature, v, out);
+        pin_hessian_times(self.rows, self.active, self.w2, v, out);
+    }
+
+    fn precondition(&mut self, r: &[Pair], out: &mut [Pair]) {
+        out.copy_from_slice(r);
+        self.step2.solve(self.system, out);
+        for z in out.iter_mut() {
+            *z = *z * 0.5;
+        }
+    }
+
+    fn expired(&mut self) -> bool {
+        self.budget.expired()
+    }
+}
+
+/// Adds `2 w² BᵀB v` (the pins' Hessian) to `out`.
+fn pin_hessian_times(rows: &[PinRow], active: &[bool], w2: f64, v: &[Pair], out: &mut [Pair]) {
+    for (row, _) in rows.iter().zip(active).filter(|(_, &a)| a) {
+        let mut p = [0.0; 2];
+        for (u, weight) in row.terms() {
+            p[0] += weight * v[u as usize].0[0];
+            p[1] += weight * v[u as usize].0[1];
+        }
+        for (u, weight) in row.terms() {
+            out[u as usize].0[0] += 2.0 * w2 * weight * p[0];
+            out[u as usize].0[1] += 2.0 * w2 * weight * p[1];
+        }
+    }
+}
