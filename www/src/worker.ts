@@ -80,6 +80,10 @@ function openPending(): void {
 }
 
 function run<K extends Kind>(request: Request<K>): void {
+  // A page and a worker from different builds (a stale cache) may not share every kind.
+  if (!Object.hasOwn(handlers, request.kind)) {
+    return post({ id: request.id, kind: request.kind, status: "error", error: errorInfo(new Error(`the worker has no "${String(request.kind)}" request`)), fatal: false });
+  }
   let outcome: Outcome<Calls[K]["result"]>;
   try {
     outcome = handlers[request.kind](request.body);
