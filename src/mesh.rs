@@ -6,7 +6,7 @@
 use crate::error::{check_finite, points_from_flat, Error, Result};
 use crate::geometry::{bbox_diagonal, cross, dot, sub};
 pub use crate::topology::Edge;
-use crate::topology::{build_edges, check_duplicates, components, NO_TRIANGLE};
+use crate::topology::{build_edges, chain_loops, check_duplicates, components, NO_TRIANGLE};
 
 /// A validated triangle mesh in the plane.
 ///
@@ -109,6 +109,17 @@ impl Mesh {
     /// The edges with only one triangle.
     pub fn boundary_edges(&self) -> impl Iterator<Item = &Edge> {
         self.edges.iter().filter(|e| e.is_boundary())
+    }
+
+    /// The boundary loops as vertex indices: the boundary edges, each directed as in its
+    /// (counter-clockwise) triangle, chained into closed loops (see
+    /// [`crate::meshing::boundary_loops`]). Loops around the shape run counter-clockwise,
+    /// loops around holes clockwise.
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        let directed: Vec<(u32, u32)> =
+            self.boundary_edges().map(|e| if e.l.is_some() { (e.i, e.j) } else { (e.j, e.i) }).collect();
+        let (loops, starts) = chain_loops(directed);
+        starts.windows(2).map(|w| loops[w[0]..w[1]].to_vec()).collect()
     }
 
     /// The connected component of each vertex, numbered from 0 in order of first vertex.

@@ -33,8 +33,10 @@
 pub mod clock;
 mod components;
 pub(crate) mod injective;
+pub(crate) mod nonlinear;
 mod pinned;
 pub mod pins;
+pub(crate) mod regularization;
 mod rest;
 mod rotation;
 pub mod stencil;

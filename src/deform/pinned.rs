@@ -3,6 +3,7 @@
 
 use super::components::{place_unsolved, vertex_motion, Motion};
 use super::injective::{Injective, Report};
+use super::nonlinear::Nonlinear;
 use super::pins::{resolve_handle, Pin, PinRow};
 use super::rest::Rest;
 use super::step1::Step1Form;
@@ -34,6 +35,7 @@ pub struct Pinned {
 #[derive(Debug)]
 enum Solver {
     TwoStep(Box<TwoStep>),
+    Nonlinear(Box<TwoStep>, Box<Nonlinear>),
     Injective(Box<Injective>),
 }
 
@@ -76,8 +78,18 @@ impl Pinned {
         }
         let start = start.unwrap_or(mesh.vertices());
         let solver = match data.options.method {
-            Method::TwoStep | Method::Nonlinear => {
+            Method::TwoStep => {
                 Solver::TwoStep(Box::new(TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?))
+            }
+            Method::Nonlinear => {
+                let weng = data
+                    .nonlinear
+                    .as_ref()
+                    .ok_or_else(|| Error::Factorization("no nonlinear system".into()))?;
+                let solved = vertex_motion.iter().map(|m| *m == Motion::Solve).collect();
+                let nonlinear = Nonlinear::new(weng, rows.clone(), w, solved, &data.options)?;
+                let two_step = TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?;
+                Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
             }
             Method::Injective => {
                 // Only step 2's factor: it preconditions the Newton systems.
@@ -156,6 +168,13 @@ impl Pinned {
             Solver::TwoStep(two_step) => {
                 two_step.solve(&rest.system, targets, &mut self.positions);
                 self.report = Report { converged: true, iterations: 0, solves: 2, ..Report::default() };
+            }
+            Solver::Nonlinear(two_step, nonlinear) => {
+                two_step.solve(&rest.system, targets, &mut self.positions);
+                let weng = rest.nonlinear.as_ref().expect("compiled with the nonlinear system");
+                let solves = nonlinear.refine(weng, targets, &mut self.positions);
+                let iterations = rest.options.iterations as usize;
+                self.report = Report { converged: true, iterations, solves: 2 + solves, ..Report::default() };
             }
             Solver::Injective(injective) => {
                 self.report = injective.solve(&rest.system, targets, rest.options.budget_ms);

@@ -3,11 +3,13 @@
 
 use std::sync::Arc;
 
+use super::nonlinear::NonlinearSystem;
 use super::pinned::Pinned;
 use super::pins::{Handle, Pin};
+use super::regularization::Regularization;
 use super::stencil::edge_stencils;
 use super::system::System;
-use super::{check_options, Options};
+use super::{check_options, Method, Options};
 use crate::error::Result;
 use crate::locate::{Location, Locator};
 use crate::mesh::Mesh;
@@ -18,6 +20,8 @@ pub(crate) struct RestData {
     pub(crate) locator: Locator,
     pub(crate) options: Options,
     pub(crate) system: System,
+    /// The nonlinear method's rows and pattern, when it is the method.
+    pub(crate) nonlinear: Option<NonlinearSystem>,
 }
 
 /// A registered rest shape: the mesh, a point locator, the per-edge fit rows (equation 3,
@@ -37,9 +41,16 @@ impl Rest {
         let stencils = edge_stencils(mesh.edges(), options.weights, |_, verts| {
             verts.map(|v| mesh.vertices()[v as usize])
         });
-        let system = System::new(mesh.vertices().len(), stencils, None)?;
+        let regularization = (options.regularization > 0.0)
+            .then(|| Regularization::new(&mesh, |_| true, options.regularization));
+        let system = System::new(mesh.vertices().len(), stencils, None, regularization)?;
+        let nonlinear = if options.method == Method::Nonlinear {
+            Some(NonlinearSystem::new(&mesh, &options)?)
+        } else {
+            None
+        };
         let locator = Locator::new(&mesh);
-        Ok(Rest(Arc::new(RestData { mesh, locator, options, system })))
+        Ok(Rest(Arc::new(RestData { mesh, locator, options, system, nonlinear })))
     }
 
     /// The rest mesh.

@@ -14,15 +14,44 @@ use crate::solver::Pair;
 /// `z1`. An edge whose fit vanishes (`t_k = 0`) keeps the identity.
 pub(crate) fn add_rotated_edges(edges: &[EdgeFit], z1: &[C64], xy: &mut [Pair]) {
     for s in edges {
-        let t = s.fit(z1);
-        // 1/√(c² + s²) (not hypot: no overflow is possible here, and it is 10× slower).
-        let inverse = 1.0 / t.norm_sqr().sqrt();
-        let rotation = if inverse.is_finite() { t * inverse } else { C64::new(1.0, 0.0) };
-        let b = rotation * s.edge;
-        let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
-        xy[j].0[0] += b.re;
-        xy[j].0[1] += b.im;
-        xy[i].0[0] -= b.re;
-        xy[i].0[1] -= b.im;
+        add_rotated_edge(s, rotation(s, z1), xy);
     }
+}
+
+/// [`add_rotated_edges`], also writing each edge's rotation `R_k` into `rotations` (for the
+/// regularisation's right-hand side).
+pub(crate) fn add_rotated_edges_keeping(
+    edges: &[EdgeFit],
+    z1: &[C64],
+    xy: &mut [Pair],
+    rotations: &mut [C64],
+) {
+    for (s, r) in edges.iter().zip(rotations.iter_mut()) {
+        *r = rotation(s, z1);
+        add_rotated_edge(s, *r, xy);
+    }
+}
+
+/// `R_k = t_k / |t_k|`, the identity where `t_k = 0`.
+#[inline(always)]
+fn rotation(s: &EdgeFit, z1: &[C64]) -> C64 {
+    let t = s.fit(z1);
+    // 1/√(c² + s²) (not hypot: no overflow is possible here, and it is 10× slower).
+    let inverse = 1.0 / t.norm_sqr().sqrt();
+    if inverse.is_finite() {
+        t * inverse
+    } else {
+        C64::new(1.0, 0.0)
+    }
+}
+
+/// Adds `ω² R_k e_k` at `j` and subtracts it at `i`.
+#[inline(always)]
+fn add_rotated_edge(s: &EdgeFit, rotation: C64, xy: &mut [Pair]) {
+    let b = rotation * s.edge;
+    let (i, j) = (s.verts[0] as usize, s.verts[1] as usize);
+    xy[j].0[0] += b.re;
+    xy[j].0[1] += b.im;
+    xy[i].0[0] -= b.re;
+    xy[i].0[1] -= b.im;
 }

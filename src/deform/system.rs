@@ -16,6 +16,7 @@
 use num_complex::Complex64 as C64;
 
 use super::pins::PinRow;
+use super::regularization::Regularization;
 use super::stencil::{EdgeFit, Stencil};
 use crate::error::Result;
 use crate::solver::{Pattern, Symbolic};
@@ -38,6 +39,8 @@ pub(crate) struct System {
     pub(crate) step2: Symbolic,
     /// `L1ᴴL1` and `L2ᵀL2` with every edge at its own weight.
     edge_terms: Values,
+    /// The regularisation, when `λ > 0`.
+    pub(crate) regularization: Option<Regularization>,
 }
 
 /// The values of both normal matrices, in the order of their patterns' entries (upper
@@ -48,16 +51,34 @@ pub(crate) struct Values {
     pub(crate) step1: Vec<C64>,
     /// Step 2 (`A2ᵀA2`).
     pub(crate) step2: Vec<f64>,
+    /// Step 2 in complex form with the regularisation, when there is one
+    /// ([`super::regularization`]): `A2ᵀA2 + λ DᵀD_E D`.
+    pub(crate) step2_complex: Option<Vec<C64>>,
 }
 
 impl System {
     /// Assembles and orders both normal matrices of `n` unknowns from the edges' rows, with
     /// AMD, or with the given elimination order for both steps (see
     /// [`Symbolic::with_ordering`]).
-    pub(crate) fn new(n: usize, stencils: Vec<Stencil>, order: Option<&[usize]>) -> Result<System> {
-        let (t1, t2) = edge_triplets(&stencils, None);
+    pub(crate) fn new(
+        n: usize,
+        stencils: Vec<Stencil>,
+        order: Option<&[usize]>,
+        regularization: Option<Regularization>,
+    ) -> Result<System> {
+        let (mut t1, t2) = edge_triplets(&stencils, None);
+        if let Some(r) = &regularization {
+            t1.extend(r.step1_triplets(&stencils));
+        }
         let (step1, step1_values) = symbolic_from(n, t1, order)?;
         let (step2, step2_values) = symbolic_from(n, t2, order)?;
+        let step2_complex = regularization.as_ref().map(|r| {
+            let mut values: Vec<C64> = step2_values.iter().map(|&v| C64::new(v, 0.0)).collect();
+            for (a, b, v) in r.step2_triplets() {
+                values[slot(&step2, a as usize, b as usize)] += v;
+            }
+            values
+        });
         let edges = stencils.iter().map(Stencil::edge_fit).collect();
         Ok(System {
             n,
@@ -65,7 +86,8 @@ impl System {
             edges,
             step1,
             step2,
-            edge_terms: Values { step1: step1_values, step2: step2_values },
+            edge_terms: Values { step1: step1_values, step2: step2_values, step2_complex },
+            regularization,
         })
     }
 
@@ -83,6 +105,7 @@ impl System {
         let mut values = Values {
             step1: vec![C64::new(0.0, 0.0); self.edge_terms.step1.len()],
             step2: vec![0.0; self.edge_terms.step2.len()],
+            step2_complex: None,
         };
         let (t1, t2) = edge_triplets(&self.stencils, Some(multipliers));
         for (r, c, v) in t1 {
@@ -105,7 +128,11 @@ impl Values {
                 if r <= c {
                     let value = w2 * wp * wq;
                     self.step1[slot(&system.step1, r, c)] += value;
-                    self.step2[slot(&system.step2, r, c)] += value;
+                    let k = slot(&system.step2, r, c);
+                    self.step2[k] += value;
+                    if let Some(z) = &mut self.step2_complex {
+                        z[k] += value;
+                    }
                 }
             }
         }
@@ -120,12 +147,15 @@ impl Values {
         }
         for (k, row) in system.step2.pattern().column(v) {
             self.step2[k] = if row == v { 1.0 } else { 0.0 };
+            if let Some(z) = &mut self.step2_complex {
+                z[k] = C64::new(self.step2[k], 0.0);
+            }
         }
     }
 }
 
 /// Matrix entries `(row, column, value)`.
-type Triplets<T> = Vec<(u32, u32, T)>;
+pub(crate) type Triplets<T> = Vec<(u32, u32, T)>;
 
 /// The upper-triangle triplets `(row, column, value)` of `L1ᴴL1` (the products of each
 /// edge's step-1 row, equation 4) and `L2ᵀL2` (the graph Laplacian of the rows
@@ -154,7 +184,7 @@ fn edge_triplets(stencils: &[Stencil], multipliers: Option<&[f64]>) -> (Triplets
     (t1, t2)
 }
 
-fn symbolic_from<T: Copy + std::ops::AddAssign>(
+pub(crate) fn symbolic_from<T: Copy + std::ops::AddAssign>(
     n: usize,
     triplets: Vec<(u32, u32, T)>,
     order: Option<&[usize]>,

@@ -8,7 +8,6 @@ use crate::error::{Error, Result};
 use crate::geometry::bounds;
 use crate::mesh::Mesh;
 use crate::meshing::outline::{mesh_outline, OutlineOptions};
-use crate::topology::chain_loops;
 
 /// A mesh ready to register, with what a renderer needs around it.
 ///
@@ -159,10 +158,7 @@ pub(crate) fn box_uvs(points: &[[f64; 2]]) -> Vec<[f32; 2]> {
 /// loop starts at the smallest boundary vertex). Where several loops meet at one vertex (a pinch), the loops are still closed
 /// walks over distinct edges. O(b log b) for b boundary edges.
 pub fn boundary_loops(mesh: &Mesh) -> Vec<Vec<u32>> {
-    let directed: Vec<(u32, u32)> =
-        mesh.boundary_edges().map(|e| if e.l.is_some() { (e.i, e.j) } else { (e.j, e.i) }).collect();
-    let (loops, starts) = chain_loops(directed);
-    starts.windows(2).map(|w| loops[w[0]..w[1]].to_vec()).collect()
+    mesh.boundary_loops()
 }
 
 /// [`mesh_outline`] with texture coordinates normalised by the outline's bounding box and
