@@ -173,7 +173,12 @@ export class App implements PinBoard {
   }
 
   resetPose(): void {
-    this.rig?.resetPose();
+    const rig = this.rig;
+    if (!rig) return;
+    rig.resetPose();
+    // Before the update (the worker answers in order): an iterative method would
+    // otherwise start from the pose being left.
+    if (this.live) void this.worker.call("reset", { generation: rig.generation });
     this.requestSolve();
   }
 

@@ -17,6 +17,14 @@
 // Pin-set versions: every compile (and an open's first pins) carries a version, and an
 // update carries the version its targets belong to. The worker solves only for the
 // version it has compiled, so targets are never matched against the wrong handles.
+//
+// Where the coming features go: `method` in RegisterOptions; pin kinds and radius in
+// CompileBody; per-pin rotations in UpdateBody (one more array, like targets); lag,
+// converged and a flipped count in SolveStats (the page already keeps updating while
+// `converged` is false); `puppet.triangleDepth` beside the positions in UpdateResult or
+// in its own request; `setStarch` and `setOverlap` as one request each, like compile;
+// pose blending and recorded playback as requests of their own (a Blender per generation,
+// held like the puppets).
 
 /** Straight RGBA pixels, row by row from the top (ImageData's layout). */
 export interface PicturePixels {
@@ -114,6 +122,17 @@ export interface ReleaseBody {
   readonly generation: number;
 }
 
+export interface ResetBody {
+  readonly generation: number;
+}
+
+export interface ResetResult {
+  readonly generation: number;
+  /** Whether the puppet has `reset()` (the library's iterative methods warm-start from
+   *  the previous pose; without it the next update starts from there). */
+  readonly reset: boolean;
+}
+
 /** Each request's body and its result. */
 export interface Calls {
   /** Meshes a picture, registers it and compiles its first pins (one generation). */
@@ -124,6 +143,9 @@ export interface Calls {
   update: { body: UpdateBody; result: UpdateResult };
   /** Frees a generation's puppet (the page shows another). */
   release: { body: ReleaseBody; result: null };
+  /** Forgets the pose the next update would start from (`puppet.reset()`), so that the
+   *  rest targets give the rest shape again. */
+  reset: { body: ResetBody; result: ResetResult };
   /** Test builds only: throws what a wasm trap throws, so that the page's recovery can be
    *  tested; production workers drop it. */
   crash: { body: null; result: null };

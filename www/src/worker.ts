@@ -233,6 +233,15 @@ const handlers: Handlers = {
     return { result: { generation, version, positions: out, stats }, transfer: [out.buffer] };
   },
 
+  reset({ generation }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    // Read as a plain property: packages before the iterative methods have no reset.
+    const reset: unknown = Reflect.get(rig.puppet, "reset");
+    if (typeof reset === "function") reset.call(rig.puppet);
+    return { result: { generation, reset: typeof reset === "function" }, transfer: [] };
+  },
+
   release({ generation }) {
     held.get(generation)?.puppet.free();
     held.delete(generation);
