@@ -29,11 +29,21 @@ fn grid() -> (Vec<f64>, Vec<u32>) {
     (v, t)
 }
 
+/// Options for the two-step method, whose results these tests check exactly.
+fn two_step() -> JsValue {
+    options(&[("method", "two-step".into())])
+}
+
 #[wasm_bindgen_test]
 fn register_compile_update_rigid() {
     let (v, t) = grid();
     for weights in ["uniform", "cotangent"] {
-        let mut p = Puppet::register(f64s(&v), u32s(&t), options(&[("weights", weights.into())])).unwrap();
+        let mut p = Puppet::register(
+            f64s(&v),
+            u32s(&t),
+            options(&[("weights", weights.into()), ("method", "two-step".into())]),
+        )
+        .unwrap();
         assert_eq!(p.vertex_count(), 20);
         assert_eq!(p.triangle_count(), 24);
         assert_eq!(p.weights(), weights);
@@ -61,7 +71,7 @@ fn register_compile_update_rigid() {
 #[wasm_bindgen_test]
 fn untouched_handles_return_rest_and_uncompiled_is_rest() {
     let (v, t) = grid();
-    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
     assert_eq!(p.update(f64s(&[])).unwrap().to_vec(), v);
     p.compile(f64s(&[0.2, 0.2, 3.9, 2.9])).unwrap();
     let out = p.update(p.handles().into()).unwrap().to_vec();
@@ -108,7 +118,7 @@ fn bad_register_input_names_the_item() {
 #[wasm_bindgen_test]
 fn failed_calls_leave_the_puppet_as_it_was() {
     let (v, t) = grid();
-    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
     p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
     let targets = f64s(&[0.0, 0.0, 4.0, 3.0]);
     let before = p.update(targets.clone()).unwrap().to_vec();
@@ -145,8 +155,8 @@ fn failed_calls_leave_the_puppet_as_it_was() {
 #[wasm_bindgen_test]
 fn vertex_handles_equal_point_handles_on_vertices() {
     let (v, t) = grid();
-    let mut a = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
-    let mut b = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    let mut a = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
+    let mut b = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
     a.compile_vertices(u32s(&[0, 19, 7])).unwrap();
     b.compile(f64s(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0])).unwrap();
     let targets = f64s(&[-1.0, 0.0, 5.0, 4.0, 2.5, 0.5]);
@@ -157,7 +167,7 @@ fn vertex_handles_equal_point_handles_on_vertices() {
 fn errors_speak_javascript() {
     let (v, t) = grid();
     // Numbers as JS prints them.
-    let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
+    let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
     p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
     let e = failure(p.update(f64s(&[0.0, 0.0, 4.0, -2e100])).err().unwrap());
     assert_eq!(e.code, "too-large");

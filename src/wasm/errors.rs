@@ -112,12 +112,16 @@ impl Thrown {
 /// The core's option names (the fields of its options structs, as `Error::BadOption` and
 /// the `NoOpaquePixel` message name them) that JS spells otherwise; the others (`spacing`,
 /// `margin`, `simplify`, `pins`, `transform`, `background`, …) are the same on both sides.
-const OPTION_NAMES: [(&str, &str); 5] = [
+const OPTION_NAMES: [(&str, &str); 9] = [
     ("handle_weight", "handleWeight"),
     ("min_angle_deg", "minAngle"),
     ("max_vertices", "maxVertices"),
     ("alpha_threshold", "alphaThreshold"),
     ("min_area", "minArea"),
+    ("budget_ms", "budgetMs"),
+    ("laplacian", "termWeights.laplacian"),
+    ("mean_value", "termWeights.meanValue"),
+    ("edge_length", "termWeights.edgeLength"),
 ];
 
 /// The words of JS: options as the options objects spell them, numbers as

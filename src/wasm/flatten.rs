@@ -42,6 +42,9 @@ export interface Quality {
   edgeStrain: QualitySummary;
   /** How many triangles are flipped (signed area ≤ 0). */
   flipped: number;
+  /** How many interior vertices' one-rings wind other than once around them: where the result
+   *  folds over itself even though no triangle is flipped. */
+  windingDefects: number;
   /** The same measures per triangle, in triangle order (`flipped`: 1 or 0). */
   perTriangle: {
     sigma1: Float64Array; sigma2: Float64Array; isometric: Float64Array; conformal: Float64Array;
@@ -87,6 +90,7 @@ pub(crate) fn quality_object(q: &Quality) -> JsValue {
     set(&o, "areaRatio", &summary_object(&q.area_ratio));
     set(&o, "edgeStrain", &summary_object(&q.edge_strain));
     set(&o, "flipped", &(q.flipped as f64).into());
+    set(&o, "windingDefects", &(q.winding_defects as f64).into());
     let per = Object::new();
     let column = |f: fn(&TriangleQuality) -> f64| {
         let v: Vec<f64> = q.triangles.iter().map(f).collect();

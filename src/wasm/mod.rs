@@ -36,7 +36,24 @@ pub use puppet::Puppet;
 pub use render::JsRenderer;
 
 use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
+use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen::{JsCast, JsValue};
+
+#[wasm_bindgen]
+extern "C" {
+    /// `performance.now()`: milliseconds, monotonic, sub-millisecond. Browsers, workers and
+    /// Node all have it (`Date.now()` is too coarse for a budget of a few milliseconds).
+    /// One import, rather than web-sys's `Performance` binding and the crate it needs.
+    #[wasm_bindgen(js_namespace = performance, js_name = now)]
+    fn performance_now() -> f64;
+}
+
+/// Runs when the module is instantiated: installs the clock the injective method's time
+/// budget reads ([`crate::deform::clock`]).
+#[wasm_bindgen(start)]
+fn start() {
+    crate::deform::set_clock(performance_now);
+}
 
 use crate::Error;
 use errors::bad_type;

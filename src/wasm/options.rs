@@ -12,6 +12,7 @@ use wasm_bindgen::{JsCast, JsValue};
 
 use super::errors::{bad_option, bad_type, describe, number, unknown_option, wrong_option_type, Thrown};
 use super::{read_exact, TypedArray};
+use crate::deform::Method;
 use crate::flatten::{FlattenOptions, VertexPin};
 use crate::meshing::{ImageOptions, OutlineOptions};
 use crate::render::RenderOptions;
@@ -24,6 +25,30 @@ const OPTIONS_TS: &str = r#"
  *  paper's recommendation for uneven meshes). */
 export type EdgeWeights = "uniform" | "cotangent";
 
+/** How an update computes the shape:
+ *  - `"injective"` (the default): never folds the picture. Every update returns a locally injective
+ *    map (no triangle with a non-positive area, no one-ring winding other than once), warm-started
+ *    from the previous result and limited to `budgetMs` per update; a pin that cannot be reached
+ *    without folding lags behind (`puppet.lag`), and the page keeps calling `update` on idle frames
+ *    until `puppet.converged`.
+ *  - `"two-step"`: Igarashi & Igarashi 2009 exactly: stateless, the cheapest (two back-substitutions),
+ *    but far drags can fold triangles over.
+ *  - `"nonlinear"`: Weng et al. 2006: the two-step result refined by `iterations` Gauss–Newton steps on
+ *    boundary Laplacian coordinates, mean-value coordinates and edge lengths; stateless; optional
+ *    global area preservation; no guarantee against folds either. */
+export type Method = "injective" | "two-step" | "nonlinear";
+
+/** The weight of each term of the nonlinear method's energy (its rows are multiplied by it), each in
+ *  [0, 1e6]; default 1 each. */
+export interface TermWeights {
+  /** The boundary curve's Laplacian coordinates. */
+  laplacian?: number;
+  /** The interior vertices' mean-value coordinates. */
+  meanValue?: number;
+  /** The interior edges' lengths. */
+  edgeLength?: number;
+}
+
 /** Options of `Puppet.register`. */
 export interface RegisterOptions {
   /** Edge weighting. Default `"uniform"`. */
@@ -31,6 +56,22 @@ export interface RegisterOptions {
   /** The multiplier of the pin rows (the energy weighs its square): how hard pins hold against
    *  the shape's rigidity. In [1e-4, 1e6]; default 1000. */
   handleWeight?: number;
+  /** How an update computes the shape. Default `"injective"`. */
+  method?: Method;
+  /** `"nonlinear"`: Gauss–Newton iterations per update, a whole number in [0, 1000]; 0 gives the
+   *  two-step result. Default 4. */
+  iterations?: number;
+  /** `"nonlinear"`: hold the shape's total area at its rest value. Default `false`. */
+  preserveArea?: boolean;
+  /** `"nonlinear"`: the weight of each term. */
+  termWeights?: TermWeights;
+  /** `"injective"`: the time budget per update, in milliseconds (> 0); an update overshoots it by at
+   *  most one conjugate-gradient step. Default 8. */
+  budgetMs?: number;
+  /** `"two-step"` and `"nonlinear"`: λ ≥ 0, the regularisation of Martinez Esturo et al., which
+   *  smooths the edges' residuals over the mesh: fewer folds and spikes near pins, at a larger
+   *  factorisation (0, the default, is the paper's method). */
+  regularization?: number;
 }
 
 /** Options of `Mesh.fromOutline`. */
@@ -167,11 +208,60 @@ pub(crate) fn weights_name(weights: EdgeWeights) -> &'static str {
 
 /// `Puppet.register`'s options.
 pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
-    let fields = Fields::open(options, &["weights", "handleWeight"])?;
+    let fields = Fields::open(
+        options,
+        &[
+            "weights",
+            "handleWeight",
+            "method",
+            "iterations",
+            "preserveArea",
+            "termWeights",
+            "budgetMs",
+            "regularization",
+        ],
+    )?;
     let mut o = Options::default();
     o.weights = fields.weights()?.unwrap_or(o.weights);
     o.handle_weight = fields.number("handleWeight")?.unwrap_or(o.handle_weight);
+    if let Some(v) = fields.get("method")? {
+        let name = v.as_string();
+        o.method = match [Method::Injective, Method::TwoStep, Method::Nonlinear]
+            .into_iter()
+            .find(|&m| name.as_deref() == Some(method_name(m)))
+        {
+            Some(m) => m,
+            None => {
+                let reason = format!("{} is not \"injective\", \"two-step\" or \"nonlinear\"", describe(&v));
+                return Err(bad_option("method", &v, &reason));
+            }
+        };
+    }
+    if let Some(k) = fields.count("iterations")? {
+        o.iterations = u32::try_from(k).unwrap_or(u32::MAX);
+    }
+    if let Some(v) = fields.get("preserveArea")? {
+        o.preserve_area = v.as_bool().ok_or_else(|| wrong_option_type("preserveArea", "a boolean", &v))?;
+    }
+    if let Some(v) = fields.get("termWeights")? {
+        let weights = Fields::open(&v, &["laplacian", "meanValue", "edgeLength"])?;
+        let t = &mut o.term_weights;
+        t.laplacian = weights.number("laplacian")?.unwrap_or(t.laplacian);
+        t.mean_value = weights.number("meanValue")?.unwrap_or(t.mean_value);
+        t.edge_length = weights.number("edgeLength")?.unwrap_or(t.edge_length);
+    }
+    o.budget_ms = fields.number("budgetMs")?.unwrap_or(o.budget_ms);
+    o.regularization = fields.number("regularization")?.unwrap_or(o.regularization);
     Ok(o)
+}
+
+/// A `Method` as JS spells it (the `method` option, `Puppet.method`).
+pub(crate) fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::Injective => "injective",
+        Method::TwoStep => "two-step",
+        Method::Nonlinear => "nonlinear",
+    }
 }
 
 /// `Mesh.fromOutline`'s options.

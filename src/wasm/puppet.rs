@@ -5,9 +5,9 @@ use js_sys::{Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::flatten::quality_object;
-use super::options::{register_options, weights_name};
+use super::options::{method_name, register_options, weights_name};
 use super::{flat, items, read_exact, typed, Thrown, TypedArray};
-use crate::{Error, Handle, Mesh, Pinned, Rest};
+use crate::{Error, Handle, Mesh, Pin, Pinned, Rest};
 
 /// A shape to puppeteer: a registered rest mesh and, once compiled, a handle set.
 ///
@@ -70,7 +70,10 @@ impl Puppet {
     }
 
     fn install(&mut self, handles: &[Handle]) -> Result<(), Thrown> {
-        let pinned = self.rest.compile(handles)?;
+        // The new pin set starts from the current pose (the injective method's warm start):
+        // a pin added mid-pose, first targeted where its rest point now is, moves nothing.
+        let pins: Vec<Pin> = handles.iter().copied().map(Pin::from).collect();
+        let pinned = self.rest.compile_pins_from(&pins, self.current())?;
         self.targets = vec![[0.0; 2]; handles.len()];
         self.pinned = Some(pinned);
         Ok(())
@@ -170,6 +173,50 @@ impl Puppet {
     #[wasm_bindgen(getter)]
     pub fn positions(&self) -> Float64Array {
         flat(self.current())
+    }
+
+    /// The largest distance, in the mesh's units, between a pin's point on the last
+    /// update's result and its target (0 before the first update). The injective method
+    /// lets a pin lag behind rather than fold the picture; draw the pin where the material
+    /// is, with a line to its target while it lags.
+    #[wasm_bindgen(getter)]
+    pub fn lag(&self) -> f64 {
+        self.pinned.as_ref().map_or(0.0, |p| p.report().lag)
+    }
+
+    /// Whether the last update's result is the method's answer for its targets: always for
+    /// the two-step and nonlinear methods; for the injective method, whether its iteration
+    /// converged within the budget. While it is `false`, keep calling `update` with the
+    /// same targets on idle frames: each call continues where the last stopped.
+    #[wasm_bindgen(getter)]
+    pub fn converged(&self) -> bool {
+        self.pinned.as_ref().is_none_or(|p| p.report().converged)
+    }
+
+    /// Returns the pose to rest: the positions become the rest shape, and the injective
+    /// method's next update starts from there. The pins stay compiled.
+    pub fn reset(&mut self) {
+        if let Some(p) = &mut self.pinned {
+            p.reset();
+        }
+    }
+
+    /// The distortion of any `positions` (`[x0, y0, …]`, one pair per vertex, e.g. a
+    /// recorded pose or another program's result) against this puppet's rest shape, as
+    /// `quality()` gives it for the current positions.
+    #[wasm_bindgen(js_name = qualityOf, unchecked_return_type = "Quality")]
+    pub fn quality_of(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
+    ) -> Result<JsValue, Thrown> {
+        let positions = items::<Float64Array, 2>("positions", &positions)?;
+        Ok(quality_object(&crate::quality::quality_2d(self.rest.mesh(), &positions)?))
+    }
+
+    /// The method this puppet was registered with.
+    #[wasm_bindgen(getter, unchecked_return_type = "Method")]
+    pub fn method(&self) -> String {
+        method_name(self.rest.options().method).into()
     }
 
     /// The edge weighting this puppet was registered with.

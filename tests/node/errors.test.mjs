@@ -42,7 +42,7 @@ function throws(call, code, props = {}, ...patterns) {
 
 /** A compiled puppet, the targets of its pins and what they give. */
 function posed() {
-  const puppet = Puppet.register(v, t);
+  const puppet = Puppet.register(v, t, { method: "two-step" });
   puppet.compile(new Float64Array([0.5, 0.5, 2.5, 2.5]));
   const targets = new Float64Array([0, 0, 3, 3]);
   const before = Array.from(puppet.update(targets));
@@ -158,7 +158,7 @@ code("bad-option", () => {
   throws(() => Mesh.fromImage(opaque(8, 8), 8, 8, { minArea: -1 }), "bad-option", { option: "minArea", value: -1 }, /^option minArea: -1 /);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { spacing: Infinity }), "bad-option", { option: "spacing", value: Infinity }, /^option spacing: Infinity /);
   // What only the binding sees: unknown keys, wrong types.
-  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight\)$/);
+  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight, method, iterations, preserveArea, termWeights, budgetMs, regularization\)$/);
   throws(() => Puppet.register(v, t, { weights: "harmonic" }), "bad-option", { option: "weights", value: "harmonic" }, /^option weights: "harmonic" is not "uniform" or "cotangent"$/);
   throws(() => Puppet.register(v, t, { handleWeight: "500" }), "bad-option", { option: "handleWeight", value: "500" }, /^option handleWeight: expected a number, got string$/);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { maxVertices: 2.5 }), "bad-option", { option: "maxVertices", value: 2.5 }, /^option maxVertices: 2\.5 is not a whole number/);

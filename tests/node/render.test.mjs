@@ -49,7 +49,7 @@ const rgba = picture(W, H);
 /** The mesh, the puppet posed (arm raised, body leaning), and the rendered frame. */
 function pose() {
   const mesh = Mesh.fromImage(rgba, W, H, { spacing: 6 });
-  const puppet = Puppet.register(mesh.vertices, mesh.triangles);
+  const puppet = Puppet.register(mesh.vertices, mesh.triangles, { method: "two-step" });
   const pins = new Float64Array([40, 80, 40, 40, 104, 22]); // bottom of the body, top, hand
   puppet.compile(pins);
   const positions = puppet.update(new Float64Array([40, 80, 48, 42, 96, -6]));

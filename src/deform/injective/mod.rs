@@ -89,7 +89,7 @@ const BACKTRACKS: usize = 40;
 const STEP_FRACTION: f64 = 0.8;
 /// Converged when the Newton decrement `−gᵀp` falls below this times the energy scale
 /// (positions then within about `10⁻⁷` of an edge length of the minimiser).
-const DECREMENT_TOLERANCE: f64 = 1e-10;
+const DECREMENT_TOLERANCE: f64 = 1e-16;
 
 /// After its first Newton step, an update stops once the preconditioned gradient
 /// `gᵀM⁻¹g` falls below this times the energy scale (positions within a few percent of an
@@ -103,18 +103,16 @@ const FRAME_TOLERANCE: f64 = 1e-3;
 /// the decrement says. Near a point pin the distortion concentrates and the Laplacian
 /// preconditioner converges slowly there, so the decrement can take many frames to fall
 /// to [`DECREMENT_TOLERANCE`] while nothing visible moves any more.
-const SETTLED: f64 = 1e-6;
+const SETTLED: f64 = 1e-9;
 
-/// The smallest forcing term: smaller ones need more conjugate-gradient steps than a
-/// frame's budget holds, with this preconditioner, and an unfinished step makes little
-/// progress.
-const FORCING_FLOOR: f64 = 0.1;
+/// The bounds of the adaptive floor of the forcing term (see [`Injective::floor`]).
+const FLOOR_RANGE: (f64, f64) = (1e-6, FORCING);
 
 /// The forcing term for a gradient `g` with `gᵀM⁻¹g = rz`: `√(rz / scale)` within
-/// `[FORCING_FLOOR, FORCING]`, so that steps far from the minimiser stay cheap and the last
-/// ones converge fast (an Eisenstat–Walker-like choice on the preconditioned gradient).
-fn forcing(rz: f64, scale: f64) -> f64 {
-    (rz / scale).sqrt().clamp(FORCING_FLOOR, FORCING)
+/// `[floor, FORCING]`, so that steps far from the minimiser stay cheap and the last ones
+/// converge fast (an Eisenstat–Walker-like choice on the preconditioned gradient).
+fn forcing(rz: f64, scale: f64, floor: f64) -> f64 {
+    (rz / scale).sqrt().clamp(floor, FORCING)
 }
 
 /// The state and buffers of the injective method for one compiled pin set.
@@ -139,6 +137,11 @@ pub(crate) struct Injective {
     rhs: Vec<Pair>,
     pcg: Pcg,
     energy: f64,
+    /// The floor of the forcing term, adapted to how the conjugate gradients fare: raised
+    /// tenfold when they stop at the cap or the budget before reaching it (near a point
+    /// pin the preconditioner is weak, and an unfinished step makes little progress),
+    /// lowered tenfold when they reach it in a few steps (then Newton converges fast).
+    floor: f64,
     /// The targets `energy` and `grad` were computed for.
     targets: Vec<[f64; 2]>,
     fresh: bool,
@@ -205,6 +208,7 @@ impl Injective {
             pcg: Pcg::new(n),
             x,
             energy: f64::NAN,
+            floor: FLOOR_RANGE.0,
             targets: Vec::new(),
             fresh: false,
             converged: false,
@@ -297,7 +301,7 @@ impl Injective {
                 *r = Pair([-g.0[0], -g.0[1]]);
             }
             let first = report.iterations == 1;
-            let scale = self.scale;
+            let (scale, floor) = (self.scale, self.floor);
             let mut op = Newton {
                 elements: &self.elements,
                 curvature: &self.curvature,
@@ -311,11 +315,16 @@ impl Injective {
             let (stop, k) = self.pcg.solve(
                 &self.rhs,
                 &mut self.step,
-                |rz| (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| forcing(rz, scale)),
+                |rz| (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| forcing(rz, scale, floor)),
                 if moved { MOVE_CG_CAP } else { CG_CAP },
                 &mut op,
             );
             report.solves += k + 1;
+            self.floor = match stop {
+                Stop::Cap | Stop::Budget => (self.floor * 10.0).min(FLOOR_RANGE.1),
+                Stop::Converged if k <= 10 => (self.floor / 10.0).max(FLOOR_RANGE.0),
+                _ => self.floor,
+            };
             if stop == Stop::Declined {
                 report.iterations -= 1;
                 break;
