@@ -1,6 +1,7 @@
-//! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile`
-//! (back-substitutions and rotation fits only: `src/deform/mod.rs`), checked with a counting
-//! global allocator. Its own test binary, because the allocator is global.
+//! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile`, with every
+//! method (two-step, regularised two-step, nonlinear with and without the area constraint,
+//! injective), checked with a counting global allocator. Its own test binary, because the
+//! allocator is global.
 
 mod common;
 
@@ -8,6 +9,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use bunraku::deform::Method;
 use bunraku::{EdgeWeights, Handle, Options, Rest};
 use common::{inside_point_near, Grid, Lcg};
 
@@ -68,8 +70,17 @@ fn update_does_not_allocate() {
     let shape = Grid::new(44, 44).jitter(0.2, 1).shape(); // 2025 vertices
     assert!(shape.vertices.len() > 2000);
     let n = shape.vertices.len();
-    for weights in [EdgeWeights::Uniform, EdgeWeights::Cotangent] {
-        let rest = Rest::register(shape.mesh(), Options { weights, ..Options::two_step() }).unwrap();
+    let methods = [
+        Options { weights: EdgeWeights::Uniform, ..Options::two_step() },
+        Options { weights: EdgeWeights::Cotangent, ..Options::two_step() },
+        Options { regularization: 1.0, ..Options::two_step() },
+        Options { method: Method::Nonlinear, ..Options::default() },
+        Options { method: Method::Nonlinear, preserve_area: true, regularization: 0.5, ..Options::default() },
+        Options { method: Method::Injective, ..Options::default() },
+    ];
+    for options in methods {
+        let weights = options;
+        let rest = Rest::register(shape.mesh(), options).unwrap();
         let hs: Vec<[f64; 2]> = [[1.0, 1.0], [43.0, 43.0], [43.0, 1.0], [20.0, 30.0]]
             .iter()
             .map(|&p| inside_point_near(rest.mesh(), p))

@@ -1,10 +1,11 @@
 //! Property tests: random polygons through `mesh_outline` and random alpha masks through
-//! `mesh_image` never panic and give either a valid, registrable mesh or a clear error.
-//! 256 cases each (`PROPTEST_CASES=n` for more), a few seconds in debug builds.
+//! `mesh_image` never panic and give either a valid, registrable mesh or a clear error
+//! (256 cases each); the injective method never folds a random shape under random drags
+//! (1000 cases). `PROPTEST_CASES=n` runs n of each; a few seconds each in debug builds.
 #![cfg(not(target_arch = "wasm32"))]
 
 use bunraku::meshing::{mesh_image, mesh_outline, ImageOptions, OutlineOptions};
-use bunraku::{Error, Options, Rest};
+use bunraku::{Error, Handle, Options, Rest};
 use proptest::prelude::*;
 
 fn valid_or_clear(result: Result<bunraku::Mesh, Error>) -> Result<(), TestCaseError> {
@@ -90,6 +91,62 @@ proptest! {
             }
             Err(Error::NoOpaquePixel { .. }) => {}
             Err(e) => return Err(TestCaseError::fail(format!("unexpected error: {e}"))),
+        }
+    }
+}
+
+proptest! {
+    // 1000 cases by default (each a small drag); PROPTEST_CASES=n runs n.
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|n| n.parse().ok()).unwrap_or(1000),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// The injective method from rest: random star-shaped shapes, two to four pins at
+    /// random points, random far targets reached in a few updates with a tiny budget: no
+    /// triangle ever has a non-positive area and no interior one-ring winds other than
+    /// once, after any update. Pins placed on vertices make steps where a single vertex
+    /// moves (the linear case of the largest step).
+    #[test]
+    fn injective_updates_never_fold(
+        polar in prop::collection::vec((0.0f64..0.9, 0.5f64..2.0), 5..14),
+        pins in prop::collection::vec((0.0f64..1.0, 0.0f64..1.0, -4.0f64..4.0, -4.0f64..4.0), 2..5),
+        on_vertices in any::<bool>(),
+        updates in 1usize..6,
+    ) {
+        let n = polar.len() as f64;
+        let outer: Vec<[f64; 2]> = polar
+            .iter()
+            .enumerate()
+            .map(|(k, &(jitter, r))| {
+                let a = (k as f64 + jitter) / n * std::f64::consts::TAU;
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect();
+        let mesh = mesh_outline(&outer, &[], &OutlineOptions::new().with_spacing(0.35)).unwrap();
+        let rest = Rest::register(mesh.clone(), Options { budget_ms: 0.5, ..Options::default() }).unwrap();
+        // Pins at points between the centre and random vertices, or on the vertices.
+        let nv = mesh.vertices().len();
+        let mut handles = Vec::new();
+        let mut targets = Vec::new();
+        for &(u, s, dx, dy) in &pins {
+            let v = ((u * nv as f64) as usize).min(nv - 1);
+            let p = mesh.vertices()[v];
+            let h = if on_vertices { Handle::Vertex(v as u32) } else { Handle::Point([s * p[0], s * p[1]]) };
+            if handles.contains(&h) {
+                continue;
+            }
+            handles.push(h);
+            targets.push((if on_vertices { p } else { [s * p[0], s * p[1]] }, [dx, dy]));
+        }
+        let Ok(mut pinned) = rest.compile(&handles) else { return Ok(()) }; // coincident pins
+        for step in 1..=updates + 3 {
+            let f = step.min(updates) as f64 / updates as f64;
+            let t: Vec<[f64; 2]> = targets.iter().map(|(p, d)| [p[0] + f * d[0], p[1] + f * d[1]]).collect();
+            let out = pinned.update(&t).unwrap().to_vec();
+            let q = bunraku::quality::quality_2d(&mesh, &out).unwrap();
+            prop_assert_eq!((q.flipped, q.winding_defects), (0, 0), "update {}", step);
         }
     }
 }

@@ -66,18 +66,23 @@ impl Budget {
         }
     }
 
-    /// Whether the budget is spent; also records the time since the previous check (the
-    /// length of one step of the caller's iteration).
+    /// Whether the budget is spent.
     pub(crate) fn expired(&mut self) -> bool {
         self.checks += 1;
+        self.elapsed() >= self.limit
+    }
+
+    /// Marks the end of one iteration of the caller's (its length is the time since the
+    /// previous mark, or since the start).
+    pub(crate) fn lap(&mut self) {
         let now = self.elapsed();
         self.longest = self.longest.max(now - self.last);
         self.last = now;
-        now >= self.limit
     }
 
-    /// The longest time between two checks so far, in milliseconds.
-    pub(crate) fn longest_step(&self) -> f64 {
+    /// The longest iteration so far, in milliseconds: a caller that checks
+    /// [`Budget::expired`] before each iteration overshoots the budget by at most this.
+    pub(crate) fn longest_lap(&self) -> f64 {
         self.longest
     }
 }

@@ -177,3 +177,156 @@ fn push_products(t: &mut Triplets<C64>, terms: &[(u32, C64)], beta: f64) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use num_complex::Complex64 as C64;
+
+    use crate::deform::pins::PinRow;
+    use crate::deform::step1::Step1Form;
+    use crate::deform::two_step::TwoStep;
+    use crate::deform::{Options, Rest};
+    use crate::mesh::Mesh;
+
+    /// A jittered grid of `n × n` squares.
+    fn grid(n: u32) -> Mesh {
+        let mut v = Vec::new();
+        let mut seed = 7u64;
+        for y in 0..=n {
+            for x in 0..=n {
+                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                let j = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3;
+                v.push([x as f64 + j, y as f64 - j]);
+            }
+        }
+        let id = |x: u32, y: u32| y * (n + 1) + x;
+        let mut t = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                t.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
+                t.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        Mesh::new(v, t).unwrap()
+    }
+
+    /// Written from the module docs alone, apart from the solver: each edge's residual
+    /// `r_k = (z_j − z_i) − e_k T_k` with the fit `T_k` (step 1: fitted to `z`'s neighbourhood;
+    /// step 2: a given rotation), the energy `Σ ω²|r_k|² + λ Σ_t a_t Σ_{k,l ∈ t} |r_k/e_k −
+    /// r_l/e_l|²` plus the pins' rows.
+    fn energy(
+        mesh: &Mesh,
+        lambda: f64,
+        z: &[C64],
+        fit: &dyn Fn(usize, &[C64]) -> C64,
+        pins: &[(usize, C64)],
+        w2: f64,
+    ) -> f64 {
+        let v = mesh.vertices();
+        let zc = |k: u32| C64::new(v[k as usize][0], v[k as usize][1]);
+        let edges = mesh.edges();
+        let residual = |k: usize| {
+            let e = edges[k];
+            let rest = zc(e.j) - zc(e.i);
+            (z[e.j as usize] - z[e.i as usize]) - rest * fit(k, z)
+        };
+        let mut sum: f64 = (0..edges.len()).map(|k| residual(k).norm_sqr()).sum();
+        let index = |a: u32, b: u32| edges.iter().position(|e| (e.i, e.j) == (a.min(b), a.max(b))).unwrap();
+        for tri in mesh.triangles() {
+            let [a, b, c] = tri.map(|k| v[k as usize]);
+            let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+            let sides = [index(tri[0], tri[1]), index(tri[1], tri[2]), index(tri[2], tri[0])];
+            let rho = sides.map(|k| residual(k) / (zc(edges[k].j) - zc(edges[k].i)));
+            for (p, q) in [(0, 1), (1, 2), (2, 0)] {
+                sum += lambda * area * (rho[p] - rho[q]).norm_sqr();
+            }
+        }
+        for &(vert, target) in pins {
+            sum += w2 * (z[vert] - target).norm_sqr();
+        }
+        sum
+    }
+
+    /// The similarity fitted to `z` on edge `k`'s neighbourhood, from centred rest
+    /// coordinates (conventions 2 and 3).
+    fn fitted(mesh: &Mesh, k: usize, z: &[C64]) -> C64 {
+        let v = mesh.vertices();
+        let e = mesh.edges()[k];
+        let verts: Vec<u32> = e.neighbourhood().collect();
+        let centroid =
+            verts.iter().fold(C64::new(0.0, 0.0), |s, &m| s + C64::new(v[m as usize][0], v[m as usize][1]))
+                / verts.len() as f64;
+        let q: Vec<C64> =
+            verts.iter().map(|&m| C64::new(v[m as usize][0], v[m as usize][1]) - centroid).collect();
+        let norm: f64 = q.iter().map(|c| c.norm_sqr()).sum();
+        verts.iter().zip(&q).map(|(&m, q)| q.conj() * z[m as usize]).sum::<C64>() / norm
+    }
+
+    /// Both steps' results minimise the regularised energies written out independently:
+    /// their central differences vanish at the solution (relative to the energy's scale)
+    /// and every random perturbation raises the energy.
+    #[test]
+    fn both_steps_minimise_the_regularised_energies() {
+        let mesh = grid(5);
+        let lambda = 3.0;
+        let rest =
+            Rest::register(mesh.clone(), Options { regularization: lambda, ..Options::two_step() }).unwrap();
+        let data = &rest.0;
+        let w = data.options.handle_weight;
+        let pinned = [7usize, 28];
+        let rows: Vec<PinRow> = pinned.iter().map(|&v| PinRow::vertex(v as u32)).collect();
+        let mut values = data.system.edge_values();
+        for r in &rows {
+            values.add_pin_row(&data.system, r, w * w);
+        }
+        let mut two = TwoStep::new(&data.system, &values, rows, w, Step1Form::Factor).unwrap();
+        let targets = [[0.5, 0.8], [6.5, 3.0]];
+        let mut out = vec![[0.0; 2]; mesh.vertices().len()];
+        two.solve(&data.system, &targets, &mut out);
+        let centre = [(targets[0][0] + targets[1][0]) / 2.0, (targets[0][1] + targets[1][1]) / 2.0];
+        let pins: Vec<(usize, C64)> = pinned
+            .iter()
+            .zip(&targets)
+            .map(|(&v, t)| (v, C64::new(t[0] - centre[0], t[1] - centre[1])))
+            .collect();
+
+        let z1 = two.step1_solution().to_vec();
+        let step1 = |z: &[C64]| energy(&mesh, lambda, z, &|k, z| fitted(&mesh, k, z), &pins, w * w);
+        let rotations: Vec<C64> = (0..mesh.edges().len())
+            .map(|k| {
+                let t = fitted(&mesh, k, &z1);
+                t / t.norm()
+            })
+            .collect();
+        let z2: Vec<C64> = out.iter().map(|p| C64::new(p[0] - centre[0], p[1] - centre[1])).collect();
+        let step2 = |z: &[C64]| energy(&mesh, lambda, z, &|k, _| rotations[k], &pins, w * w);
+
+        for (name, e, z) in [("step 1", &step1 as &dyn Fn(&[C64]) -> f64, &z1), ("step 2", &step2, &z2)] {
+            let e0 = e(z);
+            let h = 1e-6;
+            let mut worst: f64 = 0.0;
+            for m in 0..z.len() {
+                for d in [C64::new(h, 0.0), C64::new(0.0, h)] {
+                    let (mut p, mut q) = (z.clone(), z.clone());
+                    p[m] += d;
+                    q[m] -= d;
+                    worst = worst.max(((e(&p) - e(&q)) / (2.0 * h)).abs());
+                }
+            }
+            // The gradient's scale: a unit displacement of one vertex changes the energy by
+            // about the edge terms' stiffness, ~10.
+            assert!(worst < 1e-5, "{name}: the regularised energy's gradient is {worst} at the solution");
+            let mut seed = 3u64;
+            for _ in 0..20 {
+                let p: Vec<C64> = z
+                    .iter()
+                    .map(|c| {
+                        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                        *c + C64::new(((seed >> 40) as f64 / (1u64 << 24) as f64 - 0.5) * 1e-2, 0.0)
+                    })
+                    .collect();
+                assert!(e(&p) > e0, "{name}: a perturbation lowered the energy");
+            }
+        }
+    }
+}

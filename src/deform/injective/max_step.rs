@@ -74,4 +74,66 @@ mod tests {
         let t = first_root(1.0, -1.0, 1e-18);
         assert!((t - 1.0).abs() < 1e-12, "{t}");
     }
+
+    /// From a positive triangle, no step shorter than the maximum one reaches a non-positive
+    /// area, and the maximum one is where the area vanishes: 20,000 random triangles and
+    /// directions, a third of them moving a single vertex (the linear case libigl misses).
+    #[test]
+    fn no_step_below_the_maximum_inverts() {
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let det = |x: &[Pair]| {
+            let (a, b, c) = (x[0].0, x[1].0, x[2].0);
+            (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        };
+        let mut limited = 0;
+        for case in 0..20_000 {
+            let mut x: Vec<Pair> = (0..3).map(|_| Pair([next(), next()])).collect();
+            if det(&x) <= 0.0 {
+                x.swap(1, 2);
+            }
+            if det(&x) < 1e-3 {
+                continue;
+            }
+            let scale = 10f64.powf(3.0 * next());
+            let mut p: Vec<Pair> = (0..3).map(|_| Pair([scale * next(), scale * next()])).collect();
+            if case % 3 == 0 {
+                // Only one vertex moves: the area is linear in t.
+                let moving = case / 3 % 3;
+                for (k, q) in p.iter_mut().enumerate() {
+                    if k != moving {
+                        *q = Pair::default();
+                    }
+                }
+            }
+            let t_max = max_step(&[[0, 1, 2]], &x, &p);
+            let at = |t: f64| {
+                let y: Vec<Pair> =
+                    x.iter().zip(&p).map(|(a, d)| Pair([a.0[0] + t * d.0[0], a.0[1] + t * d.0[1]])).collect();
+                det(&y)
+            };
+            let horizon = if t_max.is_finite() { t_max } else { 1e3 / scale };
+            for k in 1..=50 {
+                let t = horizon * (k as f64 / 50.0) * (1.0 - 1e-9);
+                assert!(at(t) > 0.0, "case {case}: area {} at t = {t} < t_max = {t_max}", at(t));
+            }
+            if t_max.is_finite() {
+                limited += 1;
+                let d0 = det(&x);
+                assert!(
+                    at(t_max).abs() <= 1e-9 * d0.max(at(t_max / 2.0)),
+                    "case {case}: area {} at t_max",
+                    at(t_max)
+                );
+                assert!(
+                    at(t_max * (1.0 + 1e-6)) < 0.0 || at(t_max * (1.0 + 1e-6)).abs() < 1e-9,
+                    "case {case}"
+                );
+            }
+        }
+        assert!(limited > 5000, "only {limited} cases had a finite maximum step");
+    }
 }

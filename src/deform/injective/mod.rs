@@ -60,9 +60,9 @@ pub struct Report {
     pub solves: usize,
     /// Milliseconds the update took.
     pub elapsed_ms: f64,
-    /// The longest single step of the iteration (a conjugate-gradient step, or a Newton
-    /// iteration's own work), in milliseconds: an update overshoots its budget by at most
-    /// about this much.
+    /// The longest Newton iteration of the update (injective method), in milliseconds: an
+    /// update checks its budget before each iteration (and within one, between
+    /// conjugate-gradient steps), so it overshoots the budget by at most this much.
     pub longest_step_ms: f64,
 }
 
@@ -184,6 +184,7 @@ impl Injective {
             raw.into_iter().map(|(tri, inv, area)| Element { tri, inv, weight: mu * area }).collect();
         let triangles = elements.iter().map(|e| e.tri).collect();
         let active = rows.iter().map(|r| motion[r.first_vertex() as usize] == Motion::Solve).collect();
+        let rows_len = rows.len();
         let mut x: Vec<Pair> = start.iter().map(|&p| Pair(p)).collect();
         // Each solved component starts from `start` only if it is injective there.
         if energy::smallest_det(&elements, &x) <= 0.0
@@ -209,7 +210,7 @@ impl Injective {
             x,
             energy: f64::NAN,
             floor: FLOOR_RANGE.0,
-            targets: Vec::new(),
+            targets: Vec::with_capacity(rows_len),
             fresh: false,
             converged: false,
         }
@@ -359,15 +360,18 @@ impl Injective {
             let largest = self.step.iter().map(|p| p.0[0].abs().max(p.0[1].abs())).fold(0.0, f64::max);
             std::mem::swap(&mut self.x, &mut self.trial);
             self.evaluate(targets);
+            budget.lap();
             if t * largest <= self.settled {
                 self.converged = true;
                 break;
             }
         }
+        // The iteration that ended the loop counts too.
+        budget.lap();
         report.converged = self.converged;
         report.lag = self.lag(targets);
         report.elapsed_ms = budget.elapsed();
-        report.longest_step_ms = budget.longest_step();
+        report.longest_step_ms = budget.longest_lap();
         report
     }
 }
