@@ -10,7 +10,9 @@
 // percentile and maximum. The frame interval is the interval between new poses. Target
 // (issue 4): median frame ≤ 16.7 ms.
 //
-//   node benches/browser.mjs [--vertices 5000] [--frames 120] [--renderer 2d] [--per-frame]
+//   node benches/browser.mjs [--vertices 5000] [--frames 120] [--renderer 2d]
+//                            [--method two-step|nonlinear|injective] [--per-frame]
+// (--method: the page's ?method=, Puppet.register's option; default: the package's.)
 
 import os from "node:os";
 import { parseArgs } from "node:util";
@@ -21,6 +23,7 @@ const { values: opts } = parseArgs({
     vertices: { type: "string", default: "5000" },
     frames: { type: "string", default: "120" },
     renderer: { type: "string", default: "webgl2" },
+    method: { type: "string" },
     "per-frame": { type: "boolean", default: false },
   },
 });
@@ -29,7 +32,10 @@ const vertices = Number(opts.vertices);
 
 const demo = await startDemo();
 try {
-  const { page, errors } = await openDemo(demo, opts.renderer === "2d" ? { initScript: withoutWebGL2 } : {});
+  const { page, errors } = await openDemo(demo, {
+    ...(opts.renderer === "2d" ? { initScript: withoutWebGL2 } : {}),
+    ...(opts.method ? { query: `?method=${encodeURIComponent(opts.method)}` } : {}),
+  });
   const version = demo.browser.version();
 
   // The density control, as a user sets it.
@@ -87,7 +93,7 @@ try {
   };
   const intervals = records.slice(1).map((r, k) => r.time - records[k].time);
 
-  console.log(`Chromium ${version} (headless, ${renderer}), ${os.cpus()[0].model}, ${os.cpus().length} cores`);
+  console.log(`Chromium ${version} (headless, ${renderer}), ${os.cpus()[0].model}, ${os.cpus().length} cores; method: ${opts.method ?? "the package's default"}`);
   console.log(`mesh: ${mesh.vertices} vertices, ${mesh.triangles} triangles; stage ${stage[0]} × ${stage[1]} device px; ${records.length} new poses drawn for ${frames} pointer moves`);
   console.log("");
   console.log("| per frame (ms) | frames | median | p95 | max |");

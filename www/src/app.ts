@@ -17,7 +17,7 @@ import { FrameLoop, type SolveStamp } from "./frames.js";
 import { Overlay, type PinMark } from "./overlay.js";
 import type { Picture } from "./picture.js";
 import type { PinBoard } from "./pointer.js";
-import { toError, type OpenResult, type PinPlan, type RegisterOptions } from "./protocol.js";
+import { toError, type Method, type OpenResult, type PinPlan, type RegisterOptions } from "./protocol.js";
 import type { PictureRenderer } from "./renderer.js";
 import { newVersion, Rig, type Pin } from "./rig.js";
 import type { Status } from "./status.js";
@@ -31,13 +31,14 @@ export interface AppParts {
   worker: PuppetWorker;
   /** Target vertex count of a picture's mesh. */
   density: number;
+  /** How updates compute the shape (the page's `?method=`); the package's default when
+   *  absent. */
+  method?: Method | undefined;
 }
 
 /** `performance.mark` set when the first picture is on the canvas. */
 export const FIRST_PICTURE_MARK = "bunraku:first-picture";
 
-/** Cotangent weights suit meshes refined near sharp corners (a picture's outline). */
-const REGISTER: RegisterOptions = { weights: "cotangent" };
 
 /** Pins given as fractions of a picture's width and height. */
 export type PinFractions = ReadonlyArray<readonly [number, number]>;
@@ -85,6 +86,7 @@ export class App implements PinBoard {
   private readonly status: Status;
   private readonly worker: PuppetWorker;
   private density: number;
+  private readonly register: RegisterOptions;
   private readonly show = { wireframe: false, pins: true };
   private dragged: ReadonlySet<number> = new Set();
   private size = { width: 0, height: 0, dpr: 1 }; // stage, CSS pixels
@@ -97,6 +99,8 @@ export class App implements PinBoard {
     this.status = parts.status;
     this.worker = parts.worker;
     this.density = parts.density;
+    // Cotangent weights suit meshes refined near sharp corners (a picture's outline).
+    this.register = parts.method ? { weights: "cotangent", method: parts.method } : { weights: "cotangent" };
     this.frames = new FrameLoop(() => this.frame());
     this.status.renderer(this.renderer.name);
     this.status.pins(0);
@@ -313,7 +317,7 @@ export class App implements PinBoard {
       generation,
       picture: { width, height, data },
       maxVertices: this.density,
-      register: REGISTER,
+      register: this.register,
       pins,
       version: newVersion(),
     });
@@ -360,7 +364,7 @@ export class App implements PinBoard {
     this.frames.request();
     // Targets moved while the remesh ran are the old rig's; the new one starts posed as
     // it was asked for, so only an unconverged method needs another update.
-    this.solving.dirty = false;
+    this.solving.dirty = opened.stats.converged === false;
     this.pump();
   }
 

@@ -9,6 +9,7 @@ import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
+import { METHODS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
 import { Status } from "./status.js";
 
@@ -30,7 +31,9 @@ async function main(status: Status): Promise<void> {
   const stage = element("stage", HTMLCanvasElement);
   const wrap = element("stage-wrap", HTMLElement);
   const density = element("density", HTMLInputElement);
-  const choice = new URLSearchParams(location.search).get("renderer") === "2d" ? "2d" : "auto";
+  const query = new URLSearchParams(location.search);
+  const choice = query.get("renderer") === "2d" ? "2d" : "auto";
+  const method = METHODS.find((m) => m === query.get("method"));
   const renderer = await createRenderer(stage, choice, (lost) => app?.contextLost(lost));
   app = new App({
     stage,
@@ -39,6 +42,7 @@ async function main(status: Status): Promise<void> {
     status,
     worker,
     density: Number(density.value),
+    method,
   });
   const theApp = app;
 

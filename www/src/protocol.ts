@@ -33,9 +33,14 @@ export interface PicturePixels {
   readonly data: Uint8ClampedArray;
 }
 
-/** `Puppet.register`'s options. (Coming: `method: "two-step" | "nonlinear" | "injective"`.) */
+export type Method = "two-step" | "nonlinear" | "injective";
+export const METHODS: readonly Method[] = ["two-step", "nonlinear", "injective"];
+
+/** `Puppet.register`'s options. `method` is left out for the package's default (and for
+ *  packages that have no such option). */
 export interface RegisterOptions {
   readonly weights: "uniform" | "cotangent";
+  readonly method?: Method;
 }
 
 /** Where an opened picture's first pins go, in picture pixels. "at" falls back to
@@ -74,7 +79,9 @@ export interface OpenResult {
   readonly warning: ErrorInfo | null;
   /** The pose for `targets`: the first frame. */
   readonly positions: Float64Array;
-  readonly stats: { readonly meshMs: number; readonly registerMs: number; readonly compileMs: number; readonly solveMs: number };
+  /** The times of each step, and the first update's stats (an iterative method may need
+   *  more updates: `converged`). */
+  readonly stats: { readonly meshMs: number; readonly registerMs: number; readonly compileMs: number } & SolveStats;
 }
 
 export interface CompileBody {

@@ -202,7 +202,7 @@ function open(body: OpenBody): Outcome<OpenResult> {
       pinned,
       warning,
       positions,
-      stats: { meshMs, registerMs, compileMs, solveMs },
+      stats: { meshMs, registerMs, compileMs, solveMs, ...extraStats(puppet) },
     };
     return { result, transfer: [rest.buffer, triangles.buffer, uvs.buffer, edges.buffer, rests.buffer, targets.buffer, positions.buffer] };
   } catch (e) {
