@@ -5,7 +5,7 @@
 // too, its positions measured with the same code (puppet.qualityOf).
 //
 //   node benches/suite.mjs [--fine 30000] [--only twist-180,disc-coarse] [--methods two-step,injective]
-//                          [--json target/suite/results.json]
+//                          [--json target/suite/results.json] [--settle]
 //
 // Columns: vertices; the most flipped triangles and winding defects after any update of the
 // drag; the largest and mean isometric error over the triangles more than 5 edges from any
@@ -17,6 +17,7 @@ import { existsSync, mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import { performance } from "node:perf_hooks";
 import os from "node:os";
 import { execSync } from "node:child_process";
+import { createHash } from "node:crypto";
 import { Puppet } from "../pkg/bunraku.js";
 import { buildCases, CASE_NAMES } from "../tests/suite/cases.mjs";
 import { caseContext, measure } from "../tests/suite/metrics.mjs";
@@ -159,7 +160,14 @@ async function main() {
   try {
     commit = execSync("git rev-parse --short HEAD", { cwd: root, encoding: "utf8" }).trim();
   } catch {}
-  console.log(`node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores, commit ${commit}, ${new Date().toISOString().slice(0, 10)}`);
+  // pkg/ may be built from a work tree that differs from the commit: name the bytes measured.
+  const wasm = createHash("sha256").update(readFileSync(new URL("pkg/bunraku_bg.wasm", root))).digest("hex").slice(0, 12);
+  const dirty = execSync("git status --porcelain -- src Cargo.toml Cargo.lock", { cwd: root, encoding: "utf8" }).trim() ? " (src/ has uncommitted changes)" : "";
+  console.log(
+    `node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores, commit ${commit}${dirty}, ` +
+      `pkg/bunraku_bg.wasm sha256 ${wasm}, ${new Date().toISOString().slice(0, 16).replace("T", " ")} UTC, ` +
+      `load average ${os.loadavg().map((x) => x.toFixed(1)).join(" ")}`,
+  );
   const cases = await buildCases({ fineVertices: fine, only });
   for (const c of cases) exportCase(c);
   console.log(`cases written to target/suite/ (for benches/libigl/run.sh)`);
@@ -209,9 +217,51 @@ async function main() {
     console.log("\n(no libigl results in target/suite/libigl/: run bash benches/libigl/run.sh for its table)");
   }
 
+  // --settle: the injective method held at the final targets until it converges (at most
+  // SETTLE_UPDATES updates): how many held updates bring every pin within 1 % of the diagonal,
+  // and the far isometric error once converged.
+  if (process.argv.includes("--settle")) {
+    const SETTLE_UPDATES = 1500;
+    const lines = [
+      "| case | lag / diagonal after the 8 held updates | held updates until lag ≤ 1 % | updates until converged | far iso max, converged | far iso mean, converged | area ratio, converged |",
+      "|---|---:|---:|---:|---:|---:|---:|",
+    ];
+    const settled = [];
+    for (const c of cases) {
+      const context = contexts.get(c.name);
+      const puppet = Puppet.register(c.mesh.vertices, c.mesh.triangles, { method: "injective" });
+      puppet.compile(c.handles);
+      for (const targets of c.frames) puppet.update(targets);
+      const final = c.frames[c.frames.length - 1];
+      const lagAfterHold = puppet.lag / context.diagonal;
+      let held = c.holdUpdates;
+      let within = lagAfterHold <= 0.01 ? held : null;
+      let n = c.frames.length;
+      while (!puppet.converged && n < SETTLE_UPDATES) {
+        puppet.update(final);
+        n++;
+        held++;
+        if (within === null && puppet.lag <= 0.01 * context.diagonal) within = held;
+      }
+      const m = measure(puppet.quality(), puppet.positions, { ...context, targets: final, lag: puppet.lag });
+      const converged = puppet.converged;
+      puppet.free();
+      settled.push({ case: c.name, lagAfterHold, within, converged, updates: n, ...m });
+      lines.push(
+        `| ${c.name} | ${fmtLag(lagAfterHold)} | ${within ?? `> ${held}`} | ${converged ? n : `> ${n}`} | ` +
+          `${fmt(m.farMax)} | ${fmt(m.farMean)} | ${m.areaRatio.toFixed(3)} |`,
+      );
+    }
+    results["injective, held until converged"] = settled;
+    console.log("\n### injective, held at the final targets until converged\n");
+    console.log(lines.join("\n"));
+  }
+
+  // The injective method's budget is wall-clock time: its rows depend on the machine's load.
+  console.log(`\nload average at the end: ${os.loadavg().map((x) => x.toFixed(1)).join(" ")}`);
   const json = arg("json");
   if (json) {
-    writeFileSync(json, JSON.stringify({ commit, machine: os.cpus()[0].model, node: process.version, results }));
+    writeFileSync(json, JSON.stringify({ commit, dirty: Boolean(dirty), wasm, machine: os.cpus()[0].model, node: process.version, results }));
     console.log(`\nper-update results written to ${json}`);
   }
 }
