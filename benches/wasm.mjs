@@ -1,7 +1,8 @@
-// Node benchmark of the release wasm build (pkg/): register, compile and update on
-// star-shaped meshes of about 3k, 30k and 100k vertices with 4 handles and a moving drag,
-// the same workload as benches/arap.rs, after 20 untimed updates (V8 tiers the wasm code
-// up from its baseline compiler during the first calls). Prints a Markdown table.
+// Node benchmark of the release wasm build (pkg/): register, compile and update with the
+// two-step method on star-shaped meshes of about 3k, 30k and 100k vertices with 4 handles
+// and a moving drag, the same workload as benches/arap.rs, after 20 untimed updates (V8
+// tiers the wasm code up from its baseline compiler during the first calls); then every
+// method on the same drag at 3k and 30k. Prints Markdown tables.
 //
 //   npm run bench             (native and wasm)
 //   node benches/wasm.mjs [--quick]
@@ -43,7 +44,7 @@ for (const target of [3000, 30000, 100000]) {
     const register = [];
     for (let r = 0; r < reps; r++) {
       puppet?.free();
-      register.push(ms(() => (puppet = Puppet.register(vertices, triangles, { weights }))));
+      register.push(ms(() => (puppet = Puppet.register(vertices, triangles, { weights, method: "two-step" }))));
     }
     const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
     const compile = [];
@@ -66,6 +67,52 @@ for (const target of [3000, 30000, 100000]) {
     console.log(
       `| ${puppet.vertexCount} | ${puppet.triangleCount} | ${weights} | ${tMesh.toFixed(1)} | ${pct(rg, 0.5).toFixed(1)} | ` +
         `${pct(cp, 0.5).toFixed(1)} | ${pct(up, 0.5).toFixed(3)} | ${pct(up, 0.95).toFixed(3)} |`,
+    );
+    puppet.free();
+  }
+  mesh.free();
+}
+
+// Every method on the same drag at about 3k and 30k vertices (issue "Deformation that never
+// tears"): register, compile, update median and p95, and each update's cost as a multiple of
+// the two-step update of the same mesh measured in the same run.
+console.log("");
+console.log("| vertices | method | register (ms) | compile (ms) | update median (ms) | update p95 (ms) | × two-step | lag at the end |");
+console.log("|---:|---|---:|---:|---:|---:|---:|---:|");
+const methods = [
+  ["two-step", { method: "two-step" }],
+  ["two-step, regularization 1", { method: "two-step", regularization: 1 }],
+  ["nonlinear (4 iterations)", { method: "nonlinear" }],
+  ["nonlinear, preserveArea", { method: "nonlinear", preserveArea: true }],
+  ["injective (8 ms budget)", { method: "injective" }],
+];
+for (const target of [3000, 30000]) {
+  const mesh = Mesh.fromOutline(star, undefined, { spacing: spacingFor(target) });
+  const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
+  let base = NaN;
+  for (const [name, options] of methods) {
+    let puppet;
+    const register = ms(() => (puppet = Puppet.register(mesh.vertices, mesh.triangles, options)));
+    const compile = ms(() => puppet.compile(handles));
+    const out = new Float64Array(2 * puppet.vertexCount);
+    for (let f = 0; f < 20; f++) puppet.updateInto(handles, out);
+    const frames = quick || target > 10000 ? 60 : 200;
+    const targets = new Float64Array(handles);
+    const update = [];
+    for (let f = 0; f < frames; f++) {
+      const a = (f / frames) * 2 * Math.PI;
+      targets[0] = handles[0] + 0.4 * Math.sin(a);
+      targets[1] = handles[1] + 0.3 * (1 - Math.cos(a));
+      targets[2] = handles[2] + 0.1 * Math.sin(a);
+      targets[3] = handles[3] - 0.2 * Math.sin(a);
+      update.push(ms(() => puppet.updateInto(targets, out)));
+    }
+    const up = sorted(update);
+    const median = pct(up, 0.5);
+    if (name === "two-step") base = median;
+    console.log(
+      `| ${puppet.vertexCount} | ${name} | ${register.toFixed(1)} | ${compile.toFixed(1)} | ${median.toFixed(3)} | ` +
+        `${pct(up, 0.95).toFixed(3)} | ${(median / base).toFixed(1)} | ${puppet.lag.toExponential(1)} |`,
     );
     puppet.free();
   }

@@ -32,6 +32,7 @@ pub mod deform;
 pub mod error;
 pub mod flatten;
 mod geometry;
+mod lanes;
 pub mod limits;
 pub mod locate;
 pub mod mesh;

@@ -73,11 +73,12 @@ impl Budget {
     }
 
     /// Marks the end of one iteration of the caller's (its length is the time since the
-    /// previous mark, or since the start).
-    pub(crate) fn lap(&mut self) {
+    /// previous mark, or since the start); returns the time spent so far.
+    pub(crate) fn lap(&mut self) -> f64 {
         let now = self.elapsed();
         self.longest = self.longest.max(now - self.last);
         self.last = now;
+        now
     }
 
     /// The longest iteration so far, in milliseconds: a caller that checks

@@ -24,186 +24,230 @@
 //! `k1 + k2`, which turns negative under strong compression. The projection clamps it at
 //! 0: `H⁺ dF = H dF − min(k1 + k2, 0) q (q : dF)`.
 
+use crate::lanes::F2;
 use crate::solver::Pair;
 
-/// One triangle's data for the energy: its vertices, `Dm⁻¹` row-major, and `μ a_t`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Element {
-    pub(crate) tri: [u32; 3],
-    /// `Dm⁻¹ = [[i00, i01], [i10, i11]]`.
-    pub(crate) inv: [f64; 4],
+/// Every solved triangle's data for the energy, and its curvature at the last evaluated
+/// positions, as structures of arrays: the kernels read them two triangles at a time
+/// (`f64x2` lanes in WebAssembly, [`crate::lanes`]).
+#[derive(Debug, Clone)]
+pub(crate) struct Elements {
+    tri: Vec<[u32; 3]>,
+    /// `Dm⁻¹ = [[i00, i01], [i10, i11]]`, one array per entry.
+    inv: [Vec<f64>; 4],
     /// `μ a_t`.
-    pub(crate) weight: f64,
-}
-
-/// A triangle's state at the current positions, cached for the Hessian-vector products of
-/// one Newton iteration.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Curvature {
-    /// `F = [[f0, f1], [f2, f3]]`.
-    f: [f64; 4],
-    /// `cof F`.
-    g: [f64; 4],
-    k1: f64,
-    k2: f64,
+    weight: Vec<f64>,
+    /// `F = [[f0, f1], [f2, f3]]` at the last evaluation.
+    f: [Vec<f64>; 4],
+    k1: Vec<f64>,
+    k2: Vec<f64>,
     /// `−4 det⁻³`.
-    c_g: f64,
+    c_g: Vec<f64>,
     /// `6 |F|² det⁻⁴`.
-    c_gg: f64,
-    /// The twist mode (unit norm) and the amount removed along it: `−min(k1 + k2, 0)`.
-    twist: [f64; 4],
-    clamp: f64,
+    c_gg: Vec<f64>,
+    /// The twist mode's `(s, t)` over `√(2(s² + t²))`, with `s = f0 + f3`, `t = f2 − f1`:
+    /// the mode is `[−t, −s, s, −t]` in these units.
+    twist: [Vec<f64>; 2],
+    /// `−min(k1 + k2, 0)`: what the projection adds along the twist mode.
+    clamp: Vec<f64>,
 }
 
-/// `F = [x1 − x0, x2 − x0] Dm⁻¹` of an element at positions `x`; `None` if `det F ≤ 0`
-/// (or not finite).
-#[inline(always)]
-fn deformation(e: &Element, x: &[Pair]) -> [f64; 4] {
-    let [a, b, c] = e.tri.map(|v| x[v as usize].0);
-    let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-    let [i00, i01, i10, i11] = e.inv;
-    [
-        e1[0] * i00 + e2[0] * i10,
-        e1[0] * i01 + e2[0] * i11,
-        e1[1] * i00 + e2[1] * i10,
-        e1[1] * i01 + e2[1] * i11,
-    ]
+/// Two triangles' data, gathered into lanes.
+struct Pair2 {
+    /// The lanes' triangles (the second repeats the first past the end).
+    t: [usize; 2],
 }
 
-#[inline(always)]
-fn det(f: &[f64; 4]) -> f64 {
-    f[0] * f[3] - f[1] * f[2]
-}
-
-#[inline(always)]
-fn norm2(f: &[f64; 4]) -> f64 {
-    f[0] * f[0] + f[1] * f[1] + f[2] * f[2] + f[3] * f[3]
-}
-
-/// `Ψ(F)`, `+∞` when `det F ≤ 0`.
-#[inline(always)]
-fn psi(f: &[f64; 4]) -> f64 {
-    let d = det(f);
-    if d > 0.0 {
-        norm2(f) * (1.0 + 1.0 / (d * d))
-    } else {
-        f64::INFINITY
-    }
-}
-
-/// Scatters `P Dm⁻ᵀ` (the gradient with respect to the edge matrix, times `weight`) to the
-/// element's three vertices.
-#[inline(always)]
-fn scatter(e: &Element, p: [f64; 4], weight: f64, out: &mut [Pair]) {
-    let [i00, i01, i10, i11] = e.inv;
-    // Columns of P Dm⁻ᵀ: g1 = P (i00, i01)ᵀ, g2 = P (i10, i11)ᵀ.
-    let g1 = [weight * (p[0] * i00 + p[1] * i01), weight * (p[2] * i00 + p[3] * i01)];
-    let g2 = [weight * (p[0] * i10 + p[1] * i11), weight * (p[2] * i10 + p[3] * i11)];
-    let [a, b, c] = e.tri.map(|v| v as usize);
-    out[b].0[0] += g1[0];
-    out[b].0[1] += g1[1];
-    out[c].0[0] += g2[0];
-    out[c].0[1] += g2[1];
-    out[a].0[0] -= g1[0] + g2[0];
-    out[a].0[1] -= g1[1] + g2[1];
-}
-
-/// The distortion part of the energy at `x`: `Σ_t μ a_t Ψ(F_t)`, `+∞` if a triangle is
-/// flipped or degenerate.
-pub(crate) fn distortion(elements: &[Element], x: &[Pair]) -> f64 {
-    let mut sum = 0.0;
-    for e in elements {
-        sum += e.weight * psi(&deformation(e, x));
-    }
-    sum
-}
-
-/// The distortion part of the energy at `x` (as [`distortion`]), adding its gradient to
-/// `grad`.
-pub(crate) fn distortion_gradient(elements: &[Element], x: &[Pair], grad: &mut [Pair]) -> f64 {
-    let mut sum = 0.0;
-    for e in elements {
-        let f = deformation(e, x);
-        let d = det(&f);
-        if d <= 0.0 {
-            return f64::INFINITY;
+impl Elements {
+    /// The elements of triangles `tri` with `Dm⁻¹` row-major and weights `μ a_t`.
+    pub(crate) fn new(list: Vec<([u32; 3], [f64; 4], f64)>) -> Elements {
+        let m = list.len();
+        let column = |k: usize| list.iter().map(|e| e.1[k]).collect::<Vec<f64>>();
+        Elements {
+            tri: list.iter().map(|e| e.0).collect(),
+            inv: [column(0), column(1), column(2), column(3)],
+            weight: list.iter().map(|e| e.2).collect(),
+            f: [vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]],
+            k1: vec![0.0; m],
+            k2: vec![0.0; m],
+            c_g: vec![0.0; m],
+            c_gg: vec![0.0; m],
+            twist: [vec![0.0; m], vec![0.0; m]],
+            clamp: vec![0.0; m],
         }
-        let n2 = norm2(&f);
-        let inv_d2 = 1.0 / (d * d);
-        sum += e.weight * n2 * (1.0 + inv_d2);
-        let (k1, k2) = (2.0 * (1.0 + inv_d2), -2.0 * n2 * inv_d2 / d);
-        let g = cofactor(&f);
-        let p = [k1 * f[0] + k2 * g[0], k1 * f[1] + k2 * g[1], k1 * f[2] + k2 * g[2], k1 * f[3] + k2 * g[3]];
-        scatter(e, p, e.weight, grad);
     }
-    sum
-}
 
-/// `cof F = [[f3, −f2], [−f1, f0]]` (the derivative of `det F`).
-#[inline(always)]
-fn cofactor(f: &[f64; 4]) -> [f64; 4] {
-    [f[3], -f[2], -f[1], f[0]]
-}
-
-/// Caches every element's curvature at `x` (all triangles must be positive).
-pub(crate) fn curvatures(elements: &[Element], x: &[Pair], out: &mut [Curvature]) {
-    for (e, c) in elements.iter().zip(out.iter_mut()) {
-        let f = deformation(e, x);
-        let d = det(&f);
-        let n2 = norm2(&f);
-        let inv_d = 1.0 / d;
-        let inv_d2 = inv_d * inv_d;
-        let (k1, k2) = (2.0 * (1.0 + inv_d2), -2.0 * n2 * inv_d2 * inv_d);
-        // The twist mode: R₉₀ times the polar rotation, whose (unnormalised) matrix is
-        // [[f0 + f3, f1 − f2], [f2 − f1, f0 + f3]].
-        let (s, t) = (f[0] + f[3], f[2] - f[1]);
-        let len = (2.0 * (s * s + t * t)).sqrt();
-        let twist = if len > 0.0 { [-t / len, -s / len, s / len, -t / len] } else { [0.0; 4] };
-        *c = Curvature {
-            f,
-            g: cofactor(&f),
-            k1,
-            k2,
-            c_g: -4.0 * inv_d2 * inv_d,
-            c_gg: 6.0 * n2 * inv_d2 * inv_d2,
-            twist,
-            clamp: -(k1 + k2).min(0.0),
-        };
+    /// The triangles.
+    pub(crate) fn triangles(&self) -> &[[u32; 3]] {
+        &self.tri
     }
-}
 
-#[inline(always)]
-fn dot4(a: &[f64; 4], b: &[f64; 4]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
-}
+    /// The pairs of triangles the kernels process together.
+    fn pairs(&self) -> impl Iterator<Item = Pair2> {
+        let m = self.tri.len();
+        (0..m.div_ceil(2)).map(move |k| Pair2 { t: [2 * k, (2 * k + 1).min(m - 1)] })
+    }
 
-/// Adds the projected distortion Hessian times `v` to `out`: per element
-/// `dP = k1 dF + k2 cof(dF) − 4 det⁻³ (G:dF) F + (−4 det⁻³ (F:dF) + 6|F|² det⁻⁴ (G:dF)) G`,
-/// minus the negative part along the twist mode.
-pub(crate) fn distortion_hessian_times(
-    elements: &[Element],
-    curvature: &[Curvature],
-    v: &[Pair],
-    out: &mut [Pair],
-) {
-    for (e, c) in elements.iter().zip(curvature) {
-        let df = deformation(e, v);
-        let (fd, gd) = (dot4(&c.f, &df), dot4(&c.g, &df));
-        let cd = cofactor(&df);
-        let a_f = c.c_g * gd;
-        let a_g = c.c_g * fd + c.c_gg * gd;
-        let tw = c.clamp * dot4(&c.twist, &df);
-        let mut p = [0.0; 4];
-        for k in 0..4 {
-            p[k] = c.k1 * df[k] + c.k2 * cd[k] + a_f * c.f[k] + a_g * c.g[k] + tw * c.twist[k];
+    /// Whether lane 1 of `p` is a triangle of its own (not the repeat past the end).
+    #[inline(always)]
+    fn second(p: &Pair2) -> bool {
+        p.t[1] != p.t[0]
+    }
+
+    #[inline(always)]
+    fn lanes(v: &[f64], p: &Pair2) -> F2 {
+        F2::new(v[p.t[0]], v[p.t[1]])
+    }
+
+    /// `F = [x1 − x0, x2 − x0] Dm⁻¹` of both triangles at `x`.
+    #[inline(always)]
+    fn deformation(&self, p: &Pair2, x: &[Pair]) -> [F2; 4] {
+        let [a0, b0, c0] = self.tri[p.t[0]].map(|v| x[v as usize].0);
+        let [a1, b1, c1] = self.tri[p.t[1]].map(|v| x[v as usize].0);
+        let e1x = F2::new(b0[0] - a0[0], b1[0] - a1[0]);
+        let e1y = F2::new(b0[1] - a0[1], b1[1] - a1[1]);
+        let e2x = F2::new(c0[0] - a0[0], c1[0] - a1[0]);
+        let e2y = F2::new(c0[1] - a0[1], c1[1] - a1[1]);
+        let [i00, i01, i10, i11] = [0, 1, 2, 3].map(|k| Self::lanes(&self.inv[k], p));
+        [e1x * i00 + e2x * i10, e1x * i01 + e2x * i11, e1y * i00 + e2y * i10, e1y * i01 + e2y * i11]
+    }
+
+    /// Scatters `weight · P Dm⁻ᵀ` (the gradient with respect to the edge matrix) of both
+    /// lanes to their triangles' vertices, lane 0 first.
+    #[inline(always)]
+    fn scatter(&self, p: &Pair2, dp: [F2; 4], out: &mut [Pair]) {
+        let [i00, i01, i10, i11] = [0, 1, 2, 3].map(|k| Self::lanes(&self.inv[k], p));
+        let w = Self::lanes(&self.weight, p);
+        // Columns of P Dm⁻ᵀ: g1 = P (i00, i01)ᵀ, g2 = P (i10, i11)ᵀ.
+        let g1x = (dp[0] * i00 + dp[1] * i01) * w;
+        let g1y = (dp[2] * i00 + dp[3] * i01) * w;
+        let g2x = (dp[0] * i10 + dp[1] * i11) * w;
+        let g2y = (dp[2] * i10 + dp[3] * i11) * w;
+        let [g1x, g1y, g2x, g2y] = [g1x, g1y, g2x, g2y].map(F2::lanes);
+        for lane in 0..if Self::second(p) { 2 } else { 1 } {
+            let [a, b, c] = self.tri[p.t[lane]].map(|v| v as usize);
+            out[b].0[0] += g1x[lane];
+            out[b].0[1] += g1y[lane];
+            out[c].0[0] += g2x[lane];
+            out[c].0[1] += g2y[lane];
+            out[a].0[0] -= g1x[lane] + g2x[lane];
+            out[a].0[1] -= g1y[lane] + g2y[lane];
         }
-        scatter(e, p, e.weight, out);
     }
-}
 
-/// Signed areas as determinants `det F` of every element at `x`: the smallest one.
-pub(crate) fn smallest_det(elements: &[Element], x: &[Pair]) -> f64 {
-    elements.iter().map(|e| det(&deformation(e, x))).fold(f64::INFINITY, f64::min)
+    /// The distortion `Σ_t μ a_t Ψ(F_t)` at `x`, `+∞` if a triangle is flipped or
+    /// degenerate.
+    pub(crate) fn energy(&self, x: &[Pair]) -> f64 {
+        let mut sum = 0.0;
+        for p in self.pairs() {
+            let f = self.deformation(&p, x);
+            let d = f[0] * f[3] - f[1] * f[2];
+            let n2 = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] + f[3] * f[3];
+            let one = F2::splat(1.0);
+            let psi = (n2 * (one + one / (d * d)) * Self::lanes(&self.weight, &p)).lanes();
+            let d = d.lanes();
+            for lane in 0..if Self::second(&p) { 2 } else { 1 } {
+                if d[lane].is_nan() || d[lane] <= 0.0 {
+                    return f64::INFINITY;
+                }
+                sum += psi[lane];
+            }
+        }
+        sum
+    }
+
+    /// The distortion at `x` (as [`Elements::energy`]), adding its gradient
+    /// `∂Ψ/∂F = k1 F + k2 cof F` to `grad` and caching each triangle's curvature for
+    /// [`Elements::hessian_times`]: one pass where the line search's accepted point needs
+    /// both. Every triangle must be positive.
+    pub(crate) fn energy_gradient(&mut self, x: &[Pair], grad: &mut [Pair]) -> f64 {
+        let mut sum = 0.0;
+        // Pairs by index: `self.pairs()` would hold `self` while the curvature is written.
+        let m = self.tri.len();
+        for k in 0..m.div_ceil(2) {
+            let p = Pair2 { t: [2 * k, (2 * k + 1).min(m - 1)] };
+            let f = self.deformation(&p, x);
+            let one = F2::splat(1.0);
+            let two = F2::splat(2.0);
+            let d = f[0] * f[3] - f[1] * f[2];
+            let n2 = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] + f[3] * f[3];
+            let inv_d = one / d;
+            let inv_d2 = inv_d * inv_d;
+            let k1 = two * (one + inv_d2);
+            let k2 = -(two * n2 * inv_d2 * inv_d);
+            let psi = (n2 * (one + inv_d2) * Self::lanes(&self.weight, &p)).lanes();
+            let dl = d.lanes();
+            // The twist mode: R₉₀ times the polar rotation, whose (unnormalised) matrix is
+            // [[f0 + f3, f1 − f2], [f2 − f1, f0 + f3]].
+            let (ts, tt) = (f[0] + f[3], f[2] - f[1]);
+            let len = (two * (ts * ts + tt * tt)).sqrt();
+            let (ts, tt) = (ts / len, tt / len);
+            let clamp = -((k1 + k2).min(F2::splat(0.0)));
+            let c_g = F2::splat(-4.0) * inv_d2 * inv_d;
+            let c_gg = F2::splat(6.0) * n2 * inv_d2 * inv_d2;
+            let (f_l, k1_l, k2_l, cg_l, cgg_l) =
+                (f.map(F2::lanes), k1.lanes(), k2.lanes(), c_g.lanes(), c_gg.lanes());
+            let (ts_l, tt_l, clamp_l) = (ts.lanes(), tt.lanes(), clamp.lanes());
+            for lane in 0..if Self::second(&p) { 2 } else { 1 } {
+                if dl[lane].is_nan() || dl[lane] <= 0.0 {
+                    return f64::INFINITY;
+                }
+                sum += psi[lane];
+                let t = p.t[lane];
+                for (column, value) in self.f.iter_mut().zip(&f_l) {
+                    column[t] = value[lane];
+                }
+                self.k1[t] = k1_l[lane];
+                self.k2[t] = k2_l[lane];
+                self.c_g[t] = cg_l[lane];
+                self.c_gg[t] = cgg_l[lane];
+                // A zero-length twist (F = 0 cannot be positive) would be NaN: none here.
+                self.twist[0][t] = ts_l[lane];
+                self.twist[1][t] = tt_l[lane];
+                self.clamp[t] = clamp_l[lane];
+            }
+            let g = [f[3], -f[2], -f[1], f[0]];
+            let dp = [0, 1, 2, 3].map(|c| k1 * f[c] + k2 * g[c]);
+            self.scatter(&p, dp, grad);
+        }
+        sum
+    }
+
+    /// Adds the projected distortion Hessian at the last [`Elements::energy_gradient`]
+    /// times `v` to `out`: per triangle
+    /// `dP = k1 dF + k2 cof(dF) − 4 det⁻³ (G:dF) F + (−4 det⁻³ (F:dF) + 6|F|² det⁻⁴ (G:dF)) G`,
+    /// minus the negative part along the twist mode.
+    pub(crate) fn hessian_times(&self, v: &[Pair], out: &mut [Pair]) {
+        for p in self.pairs() {
+            let df = self.deformation(&p, v);
+            let f = [0, 1, 2, 3].map(|c| Self::lanes(&self.f[c], &p));
+            let g = [f[3], -f[2], -f[1], f[0]];
+            let (k1, k2) = (Self::lanes(&self.k1, &p), Self::lanes(&self.k2, &p));
+            let (c_g, c_gg) = (Self::lanes(&self.c_g, &p), Self::lanes(&self.c_gg, &p));
+            let (ts, tt) = (Self::lanes(&self.twist[0], &p), Self::lanes(&self.twist[1], &p));
+            let clamp = Self::lanes(&self.clamp, &p);
+            let fd = f[0] * df[0] + f[1] * df[1] + f[2] * df[2] + f[3] * df[3];
+            let gd = g[0] * df[0] + g[1] * df[1] + g[2] * df[2] + g[3] * df[3];
+            let cd = [df[3], -df[2], -df[1], df[0]];
+            let a_f = c_g * gd;
+            let a_g = c_g * fd + c_gg * gd;
+            let twist = [-tt, -ts, ts, -tt];
+            let tw = clamp * (twist[0] * df[0] + twist[1] * df[1] + twist[2] * df[2] + twist[3] * df[3]);
+            let dp = [0, 1, 2, 3].map(|c| k1 * df[c] + k2 * cd[c] + a_f * f[c] + a_g * g[c] + tw * twist[c]);
+            self.scatter(&p, dp, out);
+        }
+    }
+
+    /// The smallest `det F` over the triangles at `x`.
+    pub(crate) fn smallest_det(&self, x: &[Pair]) -> f64 {
+        let mut smallest = f64::INFINITY;
+        for p in self.pairs() {
+            let f = self.deformation(&p, x);
+            let d = (f[0] * f[3] - f[1] * f[2]).lanes();
+            smallest = smallest.min(d[0]).min(d[1]);
+        }
+        smallest
+    }
 }
 
 #[cfg(test)]
@@ -216,24 +260,25 @@ mod tests {
         ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     }
 
-    /// Two triangles of a unit square, deformed by a shear, a squeeze and noise (all
-    /// positive), with their elements.
-    fn setup(seed: u64) -> (Vec<Element>, Vec<Pair>) {
-        let rest = [[0.0, 0.0], [1.0, 0.0], [1.2, 0.9], [0.1, 1.0]];
-        let tris = [[0u32, 1, 2], [0, 2, 3]];
-        let elements = tris
-            .iter()
-            .map(|&tri| {
-                let [a, b, c] = tri.map(|v| rest[v as usize]);
-                let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-                let det = e1[0] * e2[1] - e1[1] * e2[0];
-                Element {
-                    tri,
-                    inv: [e2[1] / det, -e2[0] / det, -e1[1] / det, e1[0] / det],
-                    weight: 0.37 * det,
-                }
-            })
-            .collect::<Vec<_>>();
+    /// The elements of triangles over `rest` (`0.37 × area` weights).
+    fn elements(rest: &[[f64; 2]], tris: &[[u32; 3]]) -> Elements {
+        Elements::new(
+            tris.iter()
+                .map(|&tri| {
+                    let [a, b, c] = tri.map(|v| rest[v as usize]);
+                    let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                    let det = e1[0] * e2[1] - e1[1] * e2[0];
+                    (tri, [e2[1] / det, -e2[0] / det, -e1[1] / det, e1[0] / det], 0.37 * det)
+                })
+                .collect(),
+        )
+    }
+
+    /// Three triangles of a quadrilateral fan (an odd count: the kernels' last pair repeats
+    /// a lane), deformed by a shear, a squeeze and noise (all positive).
+    fn setup(seed: u64) -> (Elements, Vec<Pair>) {
+        let rest = [[0.0, 0.0], [1.0, 0.0], [1.2, 0.9], [0.1, 1.0], [-0.8, 0.4]];
+        let e = elements(&rest, &[[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
         let mut s = seed;
         let x = rest
             .iter()
@@ -241,18 +286,22 @@ mod tests {
                 Pair([1.3 * p[0] + 0.4 * p[1] + 0.05 * noise(&mut s), 0.5 * p[1] + 0.05 * noise(&mut s)])
             })
             .collect::<Vec<_>>();
-        assert!(smallest_det(&elements, &x) > 0.0);
-        (elements, x)
+        assert!(e.smallest_det(&x) > 0.0);
+        (e, x)
+    }
+
+    fn dot(a: &[Pair], b: &[Pair]) -> f64 {
+        a.iter().zip(b).map(|(u, v)| u.0[0] * v.0[0] + u.0[1] * v.0[1]).sum()
     }
 
     /// Central differences of the energy match the gradient, and central differences of the
     /// gradient match the Hessian-vector product with the projection switched off; the
-    /// projected product is the exact one plus `|λ_twist| q (q : dF)` and positive
-    /// semidefinite.
+    /// projected product is symmetric and positive semidefinite.
     #[test]
     fn finite_differences() {
         for seed in 1..20 {
-            let (elements, x) = setup(seed);
+            let (mut e, x) = setup(seed);
+            let n = x.len();
             let mut s = seed * 7919;
             let v: Vec<Pair> = x.iter().map(|_| Pair([noise(&mut s), noise(&mut s)])).collect();
             let h = 1e-6;
@@ -262,65 +311,66 @@ mod tests {
                     .map(|(p, d)| Pair([p.0[0] + t * d.0[0], p.0[1] + t * d.0[1]]))
                     .collect::<Vec<_>>()
             };
-            let mut grad = vec![Pair::default(); x.len()];
-            let e = distortion_gradient(&elements, &x, &mut grad);
-            assert!((e - distortion(&elements, &x)).abs() <= 1e-14 * e);
-            let fd = (distortion(&elements, &shifted(h)) - distortion(&elements, &shifted(-h))) / (2.0 * h);
-            let an: f64 = grad.iter().zip(&v).map(|(g, d)| g.0[0] * d.0[0] + g.0[1] * d.0[1]).sum();
+            let (mut gp, mut gm) = (vec![Pair::default(); n], vec![Pair::default(); n]);
+            e.energy_gradient(&shifted(h), &mut gp);
+            e.energy_gradient(&shifted(-h), &mut gm);
+            let mut grad = vec![Pair::default(); n];
+            let value = e.energy_gradient(&x, &mut grad);
+            assert!((value - e.energy(&x)).abs() <= 1e-14 * value);
+            let fd = (e.energy(&shifted(h)) - e.energy(&shifted(-h))) / (2.0 * h);
+            let an = dot(&grad, &v);
             assert!((fd - an).abs() <= 1e-6 * an.abs().max(1.0), "seed {seed}: gradient {an} vs {fd}");
 
-            let mut curvature = vec![Curvature::default(); elements.len()];
-            curvatures(&elements, &x, &mut curvature);
-            let mut exact = curvature.clone();
-            exact.iter_mut().for_each(|c| c.clamp = 0.0);
-            let mut hv_exact = vec![Pair::default(); x.len()];
-            distortion_hessian_times(&elements, &exact, &v, &mut hv_exact);
-            let (mut gp, mut gm) = (vec![Pair::default(); x.len()], vec![Pair::default(); x.len()]);
-            distortion_gradient(&elements, &shifted(h), &mut gp);
-            distortion_gradient(&elements, &shifted(-h), &mut gm);
-            for k in 0..x.len() {
+            let mut exact = e.clone();
+            exact.clamp.iter_mut().for_each(|c| *c = 0.0);
+            let mut hv_exact = vec![Pair::default(); n];
+            exact.hessian_times(&v, &mut hv_exact);
+            for k in 0..n {
                 for c in 0..2 {
                     let fd = (gp[k].0[c] - gm[k].0[c]) / (2.0 * h);
                     let an = hv_exact[k].0[c];
                     assert!((fd - an).abs() <= 1e-5 * fd.abs().max(1.0), "seed {seed}: H v {an} vs {fd}");
                 }
             }
-            let mut hv = vec![Pair::default(); x.len()];
-            distortion_hessian_times(&elements, &curvature, &v, &mut hv);
             // Both products are symmetric: uᵀ(H v) = vᵀ(H u).
             let u: Vec<Pair> = x.iter().map(|_| Pair([noise(&mut s), noise(&mut s)])).collect();
-            for c in [&exact, &curvature] {
-                let (mut hu, mut hv2) = (vec![Pair::default(); x.len()], vec![Pair::default(); x.len()]);
-                distortion_hessian_times(&elements, c, &u, &mut hu);
-                distortion_hessian_times(&elements, c, &v, &mut hv2);
-                let uhv: f64 = hv2.iter().zip(&u).map(|(a, b)| a.0[0] * b.0[0] + a.0[1] * b.0[1]).sum();
-                let vhu: f64 = hu.iter().zip(&v).map(|(a, b)| a.0[0] * b.0[0] + a.0[1] * b.0[1]).sum();
+            for op in [&exact, &e] {
+                let (mut hu, mut hv) = (vec![Pair::default(); n], vec![Pair::default(); n]);
+                op.hessian_times(&u, &mut hu);
+                op.hessian_times(&v, &mut hv);
+                let (uhv, vhu) = (dot(&hv, &u), dot(&hu, &v));
                 assert!((uhv - vhu).abs() <= 1e-12 * uhv.abs().max(1.0), "seed {seed}: {uhv} vs {vhu}");
             }
             // The projected Hessian is positive semidefinite: vᵀ H⁺ v ≥ 0.
-            let vhv: f64 = hv.iter().zip(&v).map(|(a, b)| a.0[0] * b.0[0] + a.0[1] * b.0[1]).sum();
-            assert!(vhv >= -1e-12, "seed {seed}: vᵀH⁺v = {vhv}");
+            let mut hv = vec![Pair::default(); n];
+            e.hessian_times(&v, &mut hv);
+            assert!(dot(&hv, &v) >= -1e-12, "seed {seed}: vᵀH⁺v = {}", dot(&hv, &v));
         }
     }
 
     /// Under strong compression the twist mode's eigenvalue is negative: the projection
-    /// removes exactly it, and the result is positive semidefinite along the twist.
+    /// removes exactly it, and the result is positive semidefinite in every direction.
     #[test]
     fn projection_clamps_the_twist() {
-        let e = Element { tri: [0, 1, 2], inv: [1.0, 0.0, 0.0, 1.0], weight: 1.0 };
+        let mut e = elements(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], &[[0, 1, 2]]);
         // F = diag(0.4, 0.5): k1 + k2 = 2 + 2/0.04 − 2·0.41/0.008 < 0.
         let x = vec![Pair([0.0, 0.0]), Pair([0.4, 0.0]), Pair([0.0, 0.5])];
-        let mut c = vec![Curvature::default()];
-        curvatures(&[e], &x, &mut c);
-        assert!(c[0].clamp > 0.0);
-        // A twist of the triangle: dF = R₉₀ F-ish; check vᵀH⁺v ≥ 0 for many directions.
+        e.energy_gradient(&x, &mut [Pair::default(); 3]);
+        assert!(e.clamp[0] > 0.0);
         let mut s = 5u64;
         for _ in 0..200 {
             let v: Vec<Pair> = (0..3).map(|_| Pair([noise(&mut s), noise(&mut s)])).collect();
             let mut hv = vec![Pair::default(); 3];
-            distortion_hessian_times(&[e], &c, &v, &mut hv);
-            let vhv: f64 = hv.iter().zip(&v).map(|(a, b)| a.0[0] * b.0[0] + a.0[1] * b.0[1]).sum();
-            assert!(vhv >= -1e-12, "{vhv}");
+            e.hessian_times(&v, &mut hv);
+            assert!(dot(&hv, &v) >= -1e-12, "{}", dot(&hv, &v));
         }
+    }
+
+    /// A flipped triangle makes the energy infinite.
+    #[test]
+    fn flipped_is_infinite() {
+        let e = elements(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], &[[0, 1, 2]]);
+        let x = vec![Pair([0.0, 0.0]), Pair([0.0, 1.0]), Pair([1.0, 0.0])];
+        assert_eq!(e.energy(&x), f64::INFINITY);
     }
 }

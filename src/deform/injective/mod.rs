@@ -30,7 +30,7 @@ pub(crate) mod energy;
 pub(crate) mod max_step;
 pub(crate) mod pcg;
 
-use energy::{curvatures, distortion, distortion_gradient, distortion_hessian_times, Curvature, Element};
+use energy::Elements;
 use max_step::max_step;
 use pcg::{axpy, dot, Operator, Pcg, Stop};
 
@@ -118,9 +118,7 @@ fn forcing(rz: f64, scale: f64, floor: f64) -> f64 {
 /// The state and buffers of the injective method for one compiled pin set.
 #[derive(Debug)]
 pub(crate) struct Injective {
-    elements: Vec<Element>,
-    triangles: Vec<[u32; 3]>,
-    curvature: Vec<Curvature>,
+    elements: Elements,
     rows: Vec<PinRow>,
     /// Whether each pin's row is part of the energy (its component is solved).
     active: Vec<bool>,
@@ -180,22 +178,16 @@ impl Injective {
             }
         }
         let mu = edge_energy / (8.0 * all_area);
-        let elements: Vec<Element> =
-            raw.into_iter().map(|(tri, inv, area)| Element { tri, inv, weight: mu * area }).collect();
-        let triangles = elements.iter().map(|e| e.tri).collect();
+        let elements = Elements::new(raw.into_iter().map(|(tri, inv, area)| (tri, inv, mu * area)).collect());
         let active = rows.iter().map(|r| motion[r.first_vertex() as usize] == Motion::Solve).collect();
         let rows_len = rows.len();
         let mut x: Vec<Pair> = start.iter().map(|&p| Pair(p)).collect();
         // Each solved component starts from `start` only if it is injective there.
-        if energy::smallest_det(&elements, &x) <= 0.0
-            || !x.iter().all(|p| p.0[0].is_finite() && p.0[1].is_finite())
-        {
+        if elements.smallest_det(&x) <= 0.0 || !x.iter().all(|p| p.0[0].is_finite() && p.0[1].is_finite()) {
             x = rest.iter().map(|&p| Pair(p)).collect();
         }
         Injective {
-            curvature: vec![Curvature::default(); elements.len()],
             elements,
-            triangles,
             rows,
             active,
             w2: w * w,
@@ -269,7 +261,7 @@ impl Injective {
     /// Energy and gradient at the current positions into `self.energy`, `self.grad`.
     fn evaluate(&mut self, targets: &[[f64; 2]]) {
         self.grad.fill(Pair::default());
-        let d = distortion_gradient(&self.elements, &self.x, &mut self.grad);
+        let d = self.elements.energy_gradient(&self.x, &mut self.grad);
         let pins = {
             let mut grad = std::mem::take(&mut self.grad);
             let p = self.pins(&self.x, targets, Some(&mut grad));
@@ -297,7 +289,6 @@ impl Injective {
                 break;
             }
             report.iterations += 1;
-            curvatures(&self.elements, &self.x, &mut self.curvature);
             for (r, g) in self.rhs.iter_mut().zip(&self.grad) {
                 *r = Pair([-g.0[0], -g.0[1]]);
             }
@@ -305,7 +296,6 @@ impl Injective {
             let (scale, floor) = (self.scale, self.floor);
             let mut op = Newton {
                 elements: &self.elements,
-                curvature: &self.curvature,
                 rows: &self.rows,
                 active: &self.active,
                 w2: self.w2,
@@ -340,12 +330,12 @@ impl Injective {
                 self.converged = true;
                 break;
             }
-            let mut t = (STEP_FRACTION * max_step(&self.triangles, &self.x, &self.step)).min(1.0);
+            let mut t = (STEP_FRACTION * max_step(self.elements.triangles(), &self.x, &self.step)).min(1.0);
             let mut accepted = false;
             for _ in 0..BACKTRACKS {
                 self.trial.copy_from_slice(&self.x);
                 axpy(t, &self.step, &mut self.trial);
-                let e = distortion(&self.elements, &self.trial) + self.pins(&self.trial, targets, None);
+                let e = self.elements.energy(&self.trial) + self.pins(&self.trial, targets, None);
                 if e <= self.energy + ARMIJO * t * slope {
                     accepted = e < self.energy;
                     break;
@@ -360,17 +350,16 @@ impl Injective {
             let largest = self.step.iter().map(|p| p.0[0].abs().max(p.0[1].abs())).fold(0.0, f64::max);
             std::mem::swap(&mut self.x, &mut self.trial);
             self.evaluate(targets);
-            budget.lap();
+            let _ = budget.lap();
             if t * largest <= self.settled {
                 self.converged = true;
                 break;
             }
         }
         // The iteration that ended the loop counts too.
-        budget.lap();
+        report.elapsed_ms = budget.lap();
         report.converged = self.converged;
         report.lag = self.lag(targets);
-        report.elapsed_ms = budget.elapsed();
         report.longest_step_ms = budget.longest_lap();
         report
     }
@@ -379,8 +368,7 @@ impl Injective {
 /// The Newton system at the current positions: the projected Hessian's products, the
 /// preconditioner `M = 2 A2ᵀA2` (step 2's factor), and the budget.
 struct Newton<'a> {
-    elements: &'a [Element],
-    curvature: &'a [Curvature],
+    elements: &'a Elements,
     rows: &'a [PinRow],
     active: &'a [bool],
     w2: f64,
@@ -392,7 +380,7 @@ struct Newton<'a> {
 impl Operator for Newton<'_> {
     fn hessian_times(&mut self, v: &[Pair], out: &mut [Pair]) {
         out.fill(Pair::default());
-        distortion_hessian_times(self.elements, self.curvature, v, out);
+        self.elements.hessian_times(v, out);
         pin_hessian_times(self.rows, self.active, self.w2, v, out);
     }
 
