@@ -136,9 +136,8 @@ export class App implements PinBoard {
       }
       if (generation !== this.generation) return false;
       const { width, height } = picture.pixels;
-      const plan: PinPlan = pins
-        ? { kind: "at", rests: Float64Array.from(pins.flatMap(([u, v]) => [u * width, v * height])), targets: Float64Array.from(pins.flatMap(([u, v]) => [u * width, v * height])) }
-        : { kind: "auto" };
+      const rests = pins && Float64Array.from(pins.flatMap(([u, v]) => [u * width, v * height]));
+      const plan: PinPlan = rests ? { kind: "at", rests, targets: rests.slice() } : { kind: "auto" };
       const outcome = await this.mesh(generation, picture, plan, { refitted: `${picture.name}: its pins do not fit; pinned automatically` });
       return outcome === "installed";
     } finally {
@@ -225,7 +224,6 @@ export class App implements PinBoard {
     if (!rig) return this.status.error(error);
     if (this.restoring) return this.status.error(error, "the puppet's worker failed again; open a picture to start over");
     this.restoring = true;
-    this.status.error(error, "restarting the puppet's worker");
     const report = `${error.message}; restarted it`;
     void this.remesh(rig, { refitted: `${report}, but the pins did not fit; pinned automatically`, done: report }).finally(() => (this.restoring = false));
   }

@@ -1,6 +1,6 @@
 // Drawing the textured mesh on the stage canvas: what a renderer does, and which one the
 // browser gets — WebGL2 when the canvas gives a WebGL2 context, else Canvas 2D with the
-// package's `Renderer` (the library's own scan converter, src/render.rs, in wasm).
+// package's `Renderer` (the library's own scan converter, not tiny-skia, in wasm).
 
 import type { Affine } from "./view.js";
 import { createGLRenderer } from "./gl.js";
