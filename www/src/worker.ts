@@ -98,10 +98,15 @@ function run<K extends Kind>(request: Request<K>): void {
 }
 
 function post(reply: Reply, transfer: Transferable[] = []): void {
-  postMessage(reply, transfer);
+  try {
+    postMessage(reply, transfer);
+  } catch (e) {
+    // A result that cannot be cloned is this file's bug; the request still gets its reply.
+    postMessage({ id: reply.id, kind: reply.kind, status: "error", error: errorInfo(e), fatal: false } satisfies Reply);
+  }
 }
 
-/** The library throws plain `Error`s (carrying a `code` once it has them). A wasm trap
+/** The library throws plain `Error`s with a stable `code` (BunrakuError). A wasm trap
  *  (`WebAssembly.RuntimeError`) or a TypeError, RangeError… from the glue or from this
  *  file is not bad input but a broken instance or a bug. */
 function isLibraryError(e: unknown): boolean {
