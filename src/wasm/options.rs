@@ -127,7 +127,16 @@ export interface RenderOptions {
   transform?: number[] | Float64Array | Float32Array;
   /** The colour behind the mesh, straight `[r, g, b, a]`, integers 0–255. Default: transparent. */
   background?: number[] | Float64Array | Float32Array;
+  /** One depth per triangle (finite; e.g. `puppet.triangleDepth`). Where the mesh overlaps itself the part of
+   *  larger depth is drawn in front (After Effects' "In Front": larger is nearer the viewer), its edges
+   *  anti-aliased over the part behind. Triangles are drawn sorted by depth, ascending, ties in mesh order (a
+   *  stable sort: nothing flickers), re-sorted only when the values change. Default: none, the triangles drawn in
+   *  mesh order (the later one shows where two overlap), exactly as with one depth throughout. Each distinct value
+   *  (up to 16; beyond that, runs of neighbouring values share one) costs a layer and coverage pass over its part
+   *  of the frame. Errors: `bad-length` (not one per triangle), `non-finite`. */
+  depth?: Float32Array | Float64Array;
 }
+
 "#;
 
 /// An options object whose keys have been checked; absent (`undefined` or `null`) reads as
@@ -325,26 +334,73 @@ pub(crate) fn flatten_options(options: &JsValue) -> Result<FlattenOptions, Throw
     Ok(o)
 }
 
-/// `Renderer.render`'s and `renderInto`'s options (every frame: nothing is allocated).
-pub(crate) fn render_options(options: &JsValue) -> Result<RenderOptions, Thrown> {
-    let fields = Fields::open(options, &["transform", "background"])?;
+/// Buffers that `Renderer`'s options are read into, kept between frames so that reading
+/// them allocates nothing once they have grown to the frame's sizes.
+#[derive(Debug, Default)]
+pub(crate) struct RenderBuffers {
+    /// `depth`, as numbers (moved into the options while a frame is drawn).
+    pub(crate) depth: Vec<f64>,
+    /// A `Float32Array` `depth`, before it is widened.
+    depth32: Vec<f32>,
+}
+
+/// `Renderer.render`'s and `renderInto`'s options (every frame: nothing is allocated once
+/// `buffers` have grown). The options own `buffers.depth` until [`RenderBuffers::restore`].
+pub(crate) fn render_options(
+    options: &JsValue,
+    buffers: &mut RenderBuffers,
+) -> Result<RenderOptions, Thrown> {
+    let fields = Fields::open(options, &["transform", "background", "depth"])?;
     let mut o = RenderOptions::default();
     if let Some(t) = fields.get("transform")? {
         // Non-finite values are the core's to name.
         o.transform = numbers::<6>("transform", &t, "[a, b, c, d, e, f]")?;
     }
     if let Some(b) = fields.get("background")? {
-        let rgba = numbers::<4>("background", &b, "[r, g, b, a]")?;
-        for (k, &c) in rgba.iter().enumerate() {
-            if !(c.fract() == 0.0 && (0.0..=255.0).contains(&c)) {
-                let reason = format!("(item {k}) is not an integer from 0 to 255");
-                return Err(Thrown::from(Error::BadOption { name: "background", value: Some(c), reason })
-                    .with("item", k));
-            }
-            o.background[k] = c as u8;
+        o.background = colour("background", &b)?;
+    }
+    if let Some(d) = fields.get("depth")? {
+        // Lengths and values are the core's to check.
+        let depth = &mut buffers.depth;
+        if let Some(a) = d.dyn_ref::<Float64Array>() {
+            depth.resize(a.len(), 0.0);
+            a.copy_into(depth);
+        } else if let Some(a) = d.dyn_ref::<Float32Array>() {
+            buffers.depth32.resize(a.len(), 0.0);
+            a.copy_into(&mut buffers.depth32);
+            depth.clear();
+            depth.extend(buffers.depth32.iter().map(|&v| v as f64));
+        } else {
+            return Err(wrong_option_type("depth", "a Float32Array or a Float64Array", &d));
         }
+        o.depth = Some(std::mem::take(depth));
     }
     Ok(o)
+}
+
+/// A straight `[r, g, b, a]` colour option, integers 0–255.
+fn colour(option: &'static str, value: &JsValue) -> Result<[u8; 4], Thrown> {
+    let rgba = numbers::<4>(option, value, "[r, g, b, a]")?;
+    let mut out = [0; 4];
+    for (k, &c) in rgba.iter().enumerate() {
+        if !(c.fract() == 0.0 && (0.0..=255.0).contains(&c)) {
+            let reason = format!("(item {k}) is not an integer from 0 to 255");
+            return Err(
+                Thrown::from(Error::BadOption { name: option, value: Some(c), reason }).with("item", k)
+            );
+        }
+        out[k] = c as u8;
+    }
+    Ok(out)
+}
+
+impl RenderBuffers {
+    /// Takes back the buffers that `options` borrowed.
+    pub(crate) fn restore(&mut self, options: RenderOptions) {
+        if let Some(depth) = options.depth {
+            self.depth = depth;
+        }
+    }
 }
 
 /// `N` numbers from an array, `Float64Array` or `Float32Array` option.

@@ -5,7 +5,7 @@ use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedAr
 use wasm_bindgen::prelude::*;
 
 use super::errors::bad_type;
-use super::options::render_options;
+use super::options::{render_options, RenderBuffers};
 use super::{read_items, rgba_bytes, typed, Thrown};
 use crate::render::Renderer;
 use crate::Error;
@@ -28,6 +28,7 @@ pub struct JsRenderer {
     triangles: Vec<[u32; 3]>,
     uvs: Vec<[f32; 2]>,
     frame: Vec<u8>,
+    options: RenderBuffers,
 }
 
 #[wasm_bindgen(js_class = Renderer)]
@@ -49,6 +50,7 @@ impl JsRenderer {
             triangles: Vec::new(),
             uvs: Vec::new(),
             frame: Vec::new(),
+            options: RenderBuffers::default(),
         })
     }
 
@@ -59,7 +61,8 @@ impl JsRenderer {
     /// `triangles` (`Uint32Array`, `[a, b, c, …]`) and `uvs` (`Float32Array`, `[u0, v0, …]`
     /// in 0..1 with v down, one pair per vertex, e.g. `Mesh.uvs`) describe the mesh; a uv
     /// `(u, v)` is the texture point `(u · width, v · height)` in pixels. Flipped triangles
-    /// are drawn; where triangles overlap the later one shows; the silhouette is
+    /// are drawn; where triangles overlap the later one shows (with
+    /// `options.depth`, the deeper one, its edge anti-aliased); the silhouette is
     /// anti-aliased and shared edges leave no seams. Throws a `BunrakuError` naming the
     /// offending item: wrong array types or lengths, a triangle naming a missing vertex, a
     /// non-finite value, an unknown or bad option, a frame side of 0 or above 16384.
@@ -115,7 +118,8 @@ impl JsRenderer {
         Ok(())
     }
 
-    /// Reads the mesh into the renderer's buffers and draws the frame into `self.frame`.
+    /// Reads the mesh and the options into the renderer's buffers and draws the frame into
+    /// `self.frame`.
     fn draw(
         &mut self,
         positions: &JsValue,
@@ -125,7 +129,6 @@ impl JsRenderer {
         height: u32,
         options: &JsValue,
     ) -> Result<(), Thrown> {
-        let options = render_options(options)?;
         read_items("positions", typed::<Float64Array>("positions", positions)?, &mut self.positions)?;
         read_items("triangles", typed::<Uint32Array>("triangles", triangles)?, &mut self.triangles)?;
         let uvs = typed::<Float32Array>("uvs", uvs)?;
@@ -136,9 +139,15 @@ impl JsRenderer {
         }
         read_items("uvs", uvs, &mut self.uvs)?;
         Renderer::check_frame_size(width, height)?;
+        // The options borrow the renderer's buffers (so that reading them allocates
+        // nothing), which the frame gives back whether it is drawn or not.
+        let options = render_options(options, &mut self.options)?;
         self.frame.resize(width as usize * height as usize * 4, 0);
         let (positions, triangles, uvs) = (&self.positions, &self.triangles, &self.uvs);
-        Ok(self.core.render_into(&mut self.frame, positions, triangles, uvs, width, height, &options)?)
+        let drawn =
+            self.core.render_into(&mut self.frame, positions, triangles, uvs, width, height, &options);
+        self.options.restore(options);
+        Ok(drawn?)
     }
 
     /// The texture's width, in pixels.

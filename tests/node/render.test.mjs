@@ -162,7 +162,7 @@ test("Renderer rejects bad input with messages that name it", () => {
   assert.throws(() => r.render(new Float64Array([0, 0, 2, NaN, 2, 2, 0, 2]), t, uv, 2, 2), /positions: item 1 has a non-finite coordinate \(NaN\)/);
   assert.throws(() => r.render(p, t, new Float32Array([0, 0, 1, 0, 1, Infinity, 0, 1]), 2, 2), /uvs: item 2 has a non-finite coordinate \(Infinity\)/);
   assert.throws(() => r.render(p, t, uv, 0, 2), /output size 0 × 2 is not allowed/);
-  assert.throws(() => r.render(p, t, uv, 2, 2, { backgroud: [0, 0, 0, 0] }), /unknown option "backgroud" \(known: transform, background\)/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { backgroud: [0, 0, 0, 0] }), /unknown option "backgroud" \(known: transform, background, depth\)/);
   assert.throws(() => r.render(p, t, uv, 2, 2, 5), /options: expected an object, got number/);
   assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0] }), /option transform: expected \[a, b, c, d, e, f\], got 5 items/);
   assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0, "x"] }), /option transform: item 5 is not a number/);
@@ -175,4 +175,54 @@ test("Renderer rejects bad input with messages that name it", () => {
   const frame = r.render(p, t, uv, 3, 2, { transform: new Float64Array([1, 0, 0, 1, 1, 0]), background: [0, 0, 255, 255] });
   assert.deepEqual([...frame.subarray(0, 8)], [0, 0, 255, 255, 255, 255, 255, 255]);
   r.free();
+});
+
+/**
+ * Two overlapping quads on a 3 × 1 texture (red, blue, green texels): quad 0 red at x 8–40.3,
+ * quad 1 blue at x 24.6–56, y 6–40 and 10–44, in a 64 × 48 frame.
+ */
+function twoQuads() {
+  const texture = new Uint8Array([255, 0, 0, 255, 0, 0, 255, 255, 0, 160, 0, 255]);
+  const boxes = [[8, 6, 40.3, 40], [24.6, 10, 56, 44]];
+  const p = new Float64Array(boxes.flatMap(([x0, y0, x1, y1]) => [x0, y0, x1, y0, x1, y1, x0, y1]));
+  const t = new Uint32Array([0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7]);
+  const uv = new Float32Array([0, 0, 0, 0, 1, 1, 1, 1].flatMap((c) => [(c + 0.5) / 3, 0.5]));
+  return { renderer: new Renderer(texture, 3, 1), p, t, uv };
+}
+const pixel = (frame, w, x, y) => [...frame.subarray(4 * (y * w + x), 4 * (y * w + x) + 4)];
+
+test("options.depth puts the deeper part in front, its edge anti-aliased, without growing memory", () => {
+  const { renderer, p, t, uv } = twoQuads();
+  const [w, h] = [64, 48];
+  const plain = renderer.render(p, t, uv, w, h);
+  assert.deepEqual(pixel(plain, w, 32, 25), [0, 0, 255, 255], "no depth: mesh order, blue last");
+  const red = renderer.render(p, t, uv, w, h, { depth: new Float32Array([1, 1, 0, 0]) });
+  assert.deepEqual(pixel(red, w, 32, 25), [255, 0, 0, 255], "red deeper, in front");
+  const blue = renderer.render(p, t, uv, w, h, { depth: new Float64Array([0, 0, 1, 1]) });
+  assert.deepEqual(pixel(blue, w, 32, 25), [0, 0, 255, 255], "blue deeper, in front");
+  // Blue's left edge at x = 24.6 over red: pixel 24 is 0.4 blue, 0.6 red (a hard step without levels).
+  const [r, , b, a] = pixel(blue, w, 24, 25);
+  assert.ok(Math.abs(r - 153) <= 3 && Math.abs(b - 102) <= 3 && a === 255, `edge pixel ${[r, b, a]}`);
+  assert.deepEqual(pixel(plain, w, 24, 25), [255, 0, 0, 255]);
+  // One depth throughout is no depth.
+  assert.deepEqual(renderer.render(p, t, uv, w, h, { depth: new Float32Array(4).fill(3) }), plain);
+  // Bad depths are named, and change nothing.
+  const fails = (options, pattern, code) =>
+    assert.throws(() => renderer.render(p, t, uv, w, h, options), (e) => e.code === code && pattern.test(e.message));
+  fails({ depth: new Float32Array(3) }, /depth: got 3, expected 4/, "bad-length");
+  fails({ depth: new Float64Array([0, NaN, 0, 0]) }, /depth: item 1 has a non-finite/, "non-finite");
+  fails({ depth: [0, 0, 1, 1] }, /option depth: expected a Float32Array or a Float64Array, got Array/, "bad-option");
+  assert.deepEqual(renderer.render(p, t, uv, w, h, { depth: new Float64Array([0, 0, 1, 1]) }), blue);
+  // renderInto with unchanged depths allocates nothing.
+  const out = new Uint8ClampedArray(w * h * 4);
+  const depth = new Float32Array([0, 0, 1, 1]);
+  const moved = new Float64Array(p);
+  for (let f = 0; f < 3; f++) renderer.renderInto(out, moved, t, uv, w, h, { depth });
+  const before = wasm.memory.buffer.byteLength;
+  for (let f = 0; f < 40; f++) {
+    for (let k = 0; k < 8; k += 2) moved[k] = p[k] + f * 0.1;
+    renderer.renderInto(out, moved, t, uv, w, h, { depth });
+  }
+  assert.equal(wasm.memory.buffer.byteLength, before, "wasm memory grew while rendering frames with depth");
+  renderer.free();
 });
