@@ -140,3 +140,43 @@ pub(super) fn demultiply(frame: &[u32], width: usize, region: &Region, backgroun
         }
     }
 }
+
+/// `colour` (straight RGBA) over `out` (straight RGBA), weighted by the coverage over
+/// `region` (the running sum of each row's cells): the overlays' paint.
+pub(super) fn over_straight(colour: [u8; 4], coverage: &Coverage, region: &Region, out: &mut [u8]) {
+    let (width, stride) = (coverage.width, coverage.stride());
+    let (x0, x1) = (region.x0, region.x1.min(width));
+    let ca = colour[3] as u32;
+    if x0 >= x1 || ca == 0 {
+        return;
+    }
+    for j in region.y0..region.y1 {
+        let cells = &coverage.cells[j * stride + x0..j * stride + x1];
+        let row = &mut out[4 * (j * width + x0)..4 * (j * width + x1)];
+        let mut sum = 0.0f32;
+        for (o, &cell) in row.chunks_exact_mut(4).zip(cells) {
+            sum += cell;
+            let m = (sum.abs().min(1.0) * 255.0 + 0.5) as u32;
+            let sa = div255(ca * m);
+            if sa == 0 {
+                continue;
+            }
+            let (da, inv) = (o[3] as u32, 255 - sa);
+            if da == 255 {
+                // Over an opaque pixel (a frame with a background, or inside the mesh): no
+                // division.
+                for k in 0..3 {
+                    o[k] = div255(colour[k] as u32 * sa + o[k] as u32 * inv) as u8;
+                }
+                continue;
+            }
+            // In units of 1/255²: source sa · colour, destination da · (255 − sa) · out.
+            let a = sa * 255 + da * inv;
+            for k in 0..3 {
+                let c = colour[k] as u32 * sa * 255 + o[k] as u32 * da * inv;
+                o[k] = ((c + a / 2) / a).min(255) as u8;
+            }
+            o[3] = ((a + 127) / 255) as u8;
+        }
+    }
+}

@@ -18,6 +18,8 @@ pub(super) struct Topology {
     /// Edges of exactly two triangles: (triangle, local edge, other triangle, whether the
     /// two run along the edge in opposite directions, as a consistently oriented mesh does).
     pub(super) shared: Vec<(u32, u8, u32, bool)>,
+    /// Every undirected edge once, `(smaller vertex, larger vertex)`: the wireframe.
+    pub(super) edges: Vec<(u32, u32)>,
 }
 
 impl Topology {
@@ -31,6 +33,7 @@ impl Topology {
         self.triangles.extend_from_slice(triangles);
         self.boundary.clear();
         self.shared.clear();
+        self.edges.clear();
 
         // Directed edges, sorted by undirected edge (shared with `Mesh`, so that the .wasm
         // holds one copy of the sort).
@@ -40,6 +43,7 @@ impl Topology {
         let mut left: Vec<(u32, u32)> = Vec::new();
         for group in edge_runs(&edges) {
             let (lo, hi) = (group[0].0, group[0].1);
+            self.edges.push((lo, hi));
             match group {
                 [(_, _, c, _)] => self.boundary.push(corner(*c)),
                 [(_, _, c, f), (_, _, d, g)] => {

@@ -101,12 +101,25 @@
 //! level (the coverage over that of `S_l`). Without depth, or with one value throughout, the
 //! frame is drawn exactly as described above, in mesh order, at the same cost.
 //!
-//! Why not tiny-skia, which the design first named for this module: measured on a
-//! 7k-vertex, 14k-triangle picture at 800 × 600 (native, release), one tiny-skia pattern
-//! fill per triangle (its per-fill raster pipeline and edge list set up every time) took
-//! 32 ms a frame and its anti-aliased fill of all the triangles 15 ms; with the layer drawn
-//! here and only the boundary loops filled by tiny-skia, it still added 56 KB (gzipped) to
-//! the .wasm for that one fill. The scan conversion here is about 150 lines.
+//! Why the textured mesh is not tiny-skia's, which the design first named for this module:
+//! measured on a 7k-vertex, 14k-triangle picture at 800 × 600 (native, release), one
+//! tiny-skia pattern fill per triangle (its per-fill raster pipeline and edge list set up
+//! every time) took 32 ms a frame and its anti-aliased fill of all the triangles 15 ms; with
+//! the layer drawn here and only the boundary loops filled by tiny-skia, it still added
+//! 56 KB (gzipped) to the .wasm for that one fill. Re-measured with the 5k-vertex bench
+//! (`cargo bench --bench render`, same run, tiny-skia at `opt-level = "z"` as the .wasm
+//! ships its dependencies): tiny-skia's per-triangle fills of the layer alone take about ten
+//! times the whole frame drawn here. The scan conversion here is about 150 lines.
+//!
+//! # Overlays
+//!
+//! [`RenderOptions::overlays`] draws over the finished frame: pins by kind, the wireframe,
+//! the outline, starch regions and depth shading ([`Overlays`]), for exported frames and
+//! figures. Their strokes and circles are tiny-skia's paths (its stroker, joins, caps and
+//! circles: what it does well), filled by the exact-area coverage of step 2 and composited
+//! one colour per path over the straight-RGBA frame; tiny-skia's raster pipeline is not
+//! used, which keeps the overlays' cost in the .wasm at 17 KB gzipped instead of 73 KB or
+//! more (src/render/overlay.rs, BENCHMARKS.md).
 //!
 //! A [`Renderer`] keeps its layer, coverage and scratch buffers between frames: a frame of
 //! the same size as the previous one, with the same triangles and depths, allocates nothing.
@@ -115,6 +128,7 @@ mod composite;
 mod coverage;
 mod depth;
 mod edges;
+mod overlay;
 mod raster;
 
 use crate::error::{Error, Result};
@@ -124,6 +138,7 @@ use coverage::{Coverage, Region};
 use depth::DepthOrder;
 pub use depth::MAX_LEVELS;
 use edges::Topology;
+pub use overlay::{DepthOverlay, Line, Overlays, PinGlyph, PinOverlay, StarchOverlay, MAX_OVERLAY_SIZE};
 use raster::{div255, Target, Texture, TextureMap};
 
 /// The largest output-pixel coordinate a vertex may have after the transform: far beyond
@@ -157,11 +172,19 @@ pub struct RenderOptions {
     /// throughout, the triangles are drawn in mesh order and the frame is exactly what it is
     /// without the option. See the module docs ("Depth") for the cost.
     pub depth: Option<Vec<f64>>,
+    /// What to draw over the frame: pins, wireframe, outline, starch, depth shading (see
+    /// [`Overlays`]). Default: nothing.
+    pub overlays: Overlays,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { transform: [1.0, 0.0, 0.0, 1.0, 0.0, 0.0], background: [0; 4], depth: None }
+        RenderOptions {
+            transform: [1.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+            background: [0; 4],
+            depth: None,
+            overlays: Overlays::default(),
+        }
     }
 }
 
@@ -186,6 +209,12 @@ impl RenderOptions {
     /// Sets [`RenderOptions::depth`]: one depth per triangle.
     pub fn with_depth(mut self, depth: impl Into<Vec<f64>>) -> RenderOptions {
         self.depth = Some(depth.into());
+        self
+    }
+
+    /// Sets [`RenderOptions::overlays`].
+    pub fn with_overlays(mut self, overlays: Overlays) -> RenderOptions {
+        self.overlays = overlays;
         self
     }
 }
@@ -365,6 +394,17 @@ impl Renderer {
                 self.coverage.cells[j * stride + region.x0..j * stride + region.x1].fill(0.0);
             }
         }
+        if !options.overlays.is_empty() {
+            let scene = overlay::Scene {
+                pixels: &self.pixels,
+                triangles,
+                areas: &self.areas,
+                topology: &self.topology,
+                depth: options.depth.as_deref(),
+                transform: options.transform,
+            };
+            overlay::draw(&options.overlays, &scene, &mut self.coverage, out);
+        }
         Ok(())
     }
 
@@ -401,6 +441,7 @@ impl Renderer {
                 return Err(Error::NonFinite { what: "depth", index: t, flat: t, value });
             }
         }
+        overlay::check(&options.overlays, triangles.len(), &options.transform, options.depth.is_some())?;
         let vertex_count = positions.len();
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&i| i as usize >= vertex_count) {

@@ -162,7 +162,7 @@ test("Renderer rejects bad input with messages that name it", () => {
   assert.throws(() => r.render(new Float64Array([0, 0, 2, NaN, 2, 2, 0, 2]), t, uv, 2, 2), /positions: item 1 has a non-finite coordinate \(NaN\)/);
   assert.throws(() => r.render(p, t, new Float32Array([0, 0, 1, 0, 1, Infinity, 0, 1]), 2, 2), /uvs: item 2 has a non-finite coordinate \(Infinity\)/);
   assert.throws(() => r.render(p, t, uv, 0, 2), /output size 0 × 2 is not allowed/);
-  assert.throws(() => r.render(p, t, uv, 2, 2, { backgroud: [0, 0, 0, 0] }), /unknown option "backgroud" \(known: transform, background, depth\)/);
+  assert.throws(() => r.render(p, t, uv, 2, 2, { backgroud: [0, 0, 0, 0] }), /unknown option "backgroud" \(known: transform, background, depth, overlays\)/);
   assert.throws(() => r.render(p, t, uv, 2, 2, 5), /options: expected an object, got number/);
   assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0] }), /option transform: expected \[a, b, c, d, e, f\], got 5 items/);
   assert.throws(() => r.render(p, t, uv, 2, 2, { transform: [1, 0, 0, 1, 0, "x"] }), /option transform: item 5 is not a number/);
@@ -224,5 +224,53 @@ test("options.depth puts the deeper part in front, its edge anti-aliased, withou
     renderer.renderInto(out, moved, t, uv, w, h, { depth });
   }
   assert.equal(wasm.memory.buffer.byteLength, before, "wasm memory grew while rendering frames with depth");
+  renderer.free();
+});
+
+test("options.overlays draws pins by kind, wireframe, outline, starch and depth, and names bad input", () => {
+  const { renderer, p, t, uv } = twoQuads();
+  const [w, h] = [64, 48];
+  const plain = renderer.render(p, t, uv, w, h);
+  const amber = [255, 200, 0, 255];
+  const pins = { positions: new Float64Array([16, 24, 48, 30]), kinds: ["advanced", "bend"], angles: new Float64Array([0, Math.PI / 2]) };
+  const frame = renderer.render(p, t, uv, w, h, { overlays: { pins } });
+  assert.deepEqual(pixel(frame, w, 16, 24), amber, "an advanced pin's dot");
+  assert.deepEqual(pixel(frame, w, 48, 30), pixel(plain, w, 48, 30), "a bend pin has no dot");
+  assert.notDeepEqual(pixel(frame, w, 48, 30 + 14), pixel(plain, w, 48, 44), "its tick points down (π/2)");
+  assert.deepEqual(renderer.render(p, t, uv, w, h, { overlays: { pins: { ...pins, kinds: new Uint8Array([2, 1]) } } }), frame);
+  const all = renderer.render(p, t, uv, w, h, {
+    depth: new Float32Array([0, 0, 1, 1]),
+    overlays: {
+      wireframe: true,
+      outline: { color: [0, 255, 0, 255], width: 2 },
+      starch: new Float32Array([1, 1, 0, 0]),
+      depth: { front: [255, 255, 255, 100] },
+      pins: { positions: new Float64Array([30, 20]), radius: new Float64Array([6]), targets: new Float64Array([40, 30]) },
+    },
+  });
+  assert.deepEqual(pixel(all, w, 7, 20), [0, 255, 0, 255], "the outline at x = 8");
+  assert.notDeepEqual(pixel(all, w, 12, 20), pixel(plain, w, 12, 20), "starch and depth tint red");
+  const fails = (overlays, pattern, code) =>
+    assert.throws(() => renderer.render(p, t, uv, w, h, { overlays }), (e) => e.code === code && pattern.test(e.message), pattern.source);
+  fails({ wirefame: true }, /unknown option "wirefame"/, "bad-option");
+  fails(5, /option overlays: expected an object, got number/, "bad-option");
+  fails({ wireframe: "yes" }, /option overlays.wireframe: expected a boolean or \{ color, width \}, got string/, "bad-option");
+  fails({ outline: { width: 0 } }, /option overlays.outline.width: 0 is not in \(0, 256\] pixels/, "bad-option");
+  fails({ outline: { color: [0, 0, 300, 0] } }, /option overlays.outline.color: 300 \(item 2\) is not an integer from 0 to 255/, "bad-option");
+  fails({ starch: new Float32Array(3) }, /overlays.starch: got 3, expected 4/, "bad-length");
+  fails({ starch: { color: [1, 1, 1, 1] } }, /option overlays.starch.amount: missing/, "bad-option");
+  fails({ depth: true }, /option overlays.depth: needs the depth option/, "bad-option");
+  fails({ pins: {} }, /option overlays.pins.positions: missing/, "bad-option");
+  fails({ pins: { positions: [1, 2] } }, /option overlays.pins.positions: expected a Float64Array, got Array/, "bad-option");
+  fails({ pins: { positions: new Float64Array(3) } }, /overlays.pins.positions: length 3 is not a multiple of 2/, "bad-length");
+  fails({ pins: { positions: new Float64Array([0, NaN]) } }, /overlays.pins.positions: item 0 has a non-finite/, "non-finite");
+  fails({ pins: { ...pins, kinds: ["position", "twist"] } }, /option overlays.pins.kinds: item 1 is "twist", not "position", "bend" or "advanced"/, "bad-option");
+  fails({ pins: { ...pins, kinds: new Uint8Array([0, 3]) } }, /item 1 is 3, not 0, 1 or 2/, "bad-option");
+  fails({ pins: { ...pins, kinds: ["bend"] } }, /overlays.pins.kinds: got 1, expected 2/, "bad-length");
+  fails({ pins: { ...pins, radius: new Float64Array([1, -1]) } }, /option overlays.pins.radius: -1 \(pin 1\) is negative/, "bad-option");
+  fails({ pins: { ...pins, targets: new Float64Array([0, 0]) } }, /overlays.pins.targets: got 1, expected 2/, "bad-length");
+  fails({ pins: { ...pins, size: -1 } }, /option overlays.pins.size: -1 is not in \(0, 256\] pixels/, "bad-option");
+  // Nothing above changed the renderer.
+  assert.deepEqual(renderer.render(p, t, uv, w, h, { overlays: { pins } }), frame);
   renderer.free();
 });
