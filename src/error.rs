@@ -118,6 +118,23 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+    /// A point (a starch or overlap region's centre) that lies outside every triangle.
+    PointOutside {
+        /// What the point is (`"starch"`, `"overlap"`).
+        what: &'static str,
+        /// Its index in its list.
+        index: usize,
+        /// The point.
+        point: [f64; 2],
+    },
+    /// Two pins whose discs (pins with a radius) share a vertex: a vertex cannot be held by
+    /// two pins at once.
+    OverlappingPins {
+        /// The first pin.
+        first: usize,
+        /// The second pin.
+        second: usize,
+    },
     /// Two handles at the same rest-space point.
     CoincidentHandles {
         /// The first handle.
@@ -207,6 +224,32 @@ pub enum Error {
         /// Why, with the counts or the offending vertex.
         reason: String,
     },
+    /// A pose with flipped or collapsed triangles (twice the signed area ≤ 0), which a
+    /// blend cannot take the logarithm of ([`crate::blend::Blender::add_pose`]; or clamp
+    /// them with [`crate::blend::Flipped::Clamp`]).
+    FlippedTriangles {
+        /// How many triangles are flipped or collapsed.
+        count: usize,
+        /// The first of them.
+        first: usize,
+    },
+    /// A pose index that does not exist ([`crate::blend::Blender`]).
+    BadPose {
+        /// The index given.
+        index: usize,
+        /// How many poses there are.
+        pose_count: usize,
+    },
+    /// A blend weight that is not finite or beyond [`crate::blend::MAX_WEIGHT`] in
+    /// magnitude: code `"non-finite"` or `"too-large"`.
+    BadWeight {
+        /// The index of the weight (its pose).
+        index: usize,
+        /// The weight.
+        value: f64,
+        /// The largest magnitude allowed.
+        limit: f64,
+    },
 }
 
 /// How a message names options and prints numbers: [`RustVocabulary`] for `Display`, the
@@ -248,10 +291,12 @@ impl Error {
     /// binding's `error.code`): `"non-finite"`, `"bad-length"`, `"index-out-of-range"`,
     /// `"degenerate-triangle"`, `"duplicate-triangle"`, `"non-manifold-edge"`,
     /// `"folded-edge"`, `"unused-vertex"`, `"empty-mesh"`, `"too-large"`, `"bad-option"`,
-    /// `"handle-outside"`, `"bad-handle"`, `"coincident-handles"`,
+    /// `"handle-outside"`, `"bad-handle"`, `"coincident-handles"`, `"point-outside"`,
+    /// `"overlapping-pins"`,
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
-    /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`. A wrong count of items
-    /// ([`Error::CountMismatch`]) is a `"bad-length"` too.
+    /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
+    /// `"bad-pose"`. A wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"`
+    /// too; a bad blend weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`.
     pub fn code(&self) -> &'static str {
         match self {
             Error::BadLength { .. } | Error::CountMismatch { .. } => "bad-length",
@@ -268,6 +313,8 @@ impl Error {
             Error::HandleOutside { .. } => "handle-outside",
             Error::BadHandle { .. } => "bad-handle",
             Error::CoincidentHandles { .. } => "coincident-handles",
+            Error::PointOutside { .. } => "point-outside",
+            Error::OverlappingPins { .. } => "overlapping-pins",
             Error::Factorization(_) => "factorization-failed",
             Error::BadOutline { .. } => "bad-outline",
             Error::ImageBufferLength { .. } | Error::ImageSize { .. } | Error::NoOpaquePixel { .. } => {
@@ -278,6 +325,10 @@ impl Error {
             Error::BadJson { .. } => "bad-json",
             Error::InconsistentOrientation { .. } => "inconsistent-orientation",
             Error::NotADisc { .. } => "not-a-disc",
+            Error::FlippedTriangles { .. } => "flipped-triangles",
+            Error::BadPose { .. } => "bad-pose",
+            Error::BadWeight { value, .. } if !value.is_finite() => "non-finite",
+            Error::BadWeight { .. } => "too-large",
         }
     }
 
@@ -319,6 +370,12 @@ impl Error {
                 format!("handle {handle} at ({}, {}) lies outside the shape", n(point[0]), n(point[1]))
             }
             Error::BadHandle { handle, reason } => format!("handle {handle}: {reason}"),
+            Error::PointOutside { what, index, point } => {
+                format!("{what} {index} at ({}, {}) lies outside the shape", n(point[0]), n(point[1]))
+            }
+            Error::OverlappingPins { first, second } => {
+                format!("the discs of pins {first} and {second} overlap")
+            }
             Error::CoincidentHandles { first, second } => {
                 format!("handles {first} and {second} are at the same point")
             }
@@ -366,6 +423,16 @@ impl Error {
                 }
             }
             Error::BadJson { reason } => format!("mesh JSON: {reason}"),
+            Error::FlippedTriangles { count, first } => format!(
+                "positions: {count} triangle{} flipped or collapsed (the first: triangle {first}); a blend needs every triangle the right way round, or flipped triangles clamped",
+                if *count == 1 { " is" } else { "s are" }
+            ),
+            Error::BadPose { index, pose_count } => {
+                format!("pose {index} does not exist (there are {pose_count} poses)")
+            }
+            Error::BadWeight { index, value, limit } => {
+                format!("weights: weight {index} is {}, not a finite number within ±{}", n(*value), n(*limit))
+            }
         }
     }
 }

@@ -27,9 +27,10 @@
 //! in the output they run counter-clockwise in the plane (x right, y up). So a planar mesh
 //! whose triangles face +z comes back as a rotated and translated copy of its (x, y).
 
+use crate::deform::pin_set::PinSet;
 use crate::deform::system::System;
 use crate::deform::two_step::TwoStep;
-use crate::deform::{check_handle_weight, edge_stencils, EdgeWeights, PinRow, Step1Form};
+use crate::deform::{check_handle_weight, edge_stencils, EdgeWeights, Rotation, Step1Form};
 use crate::error::{Error, Result};
 use crate::geometry::bounds;
 use crate::geometry::space::{dot, norm, sub};
@@ -121,15 +122,14 @@ pub fn flatten(surface: &Surface, options: &FlattenOptions) -> Result<Flattening
     // with two or more pins every vertex is solved. Step 1 is factorised, not expanded in a
     // per-pin basis (one solve instead of one per pin, for the one update made).
     let w = options.handle_weight;
-    let rows: Vec<PinRow> = pins.iter().map(|p| PinRow::vertex(p.vertex)).collect();
-    let mut values = system.edge_values();
-    for row in &rows {
-        values.add_pin_row(&system, row, w * w);
-    }
-    let mut two_step = TwoStep::new(&system, &values, rows, w, Step1Form::Factor)?;
+    let vertices: Vec<u32> = pins.iter().map(|p| p.vertex).collect();
+    let pin_set = PinSet::of_vertices(&vertices, n);
+    let values = system.values_for(&pin_set, w);
+    let mut two_step = TwoStep::new(&system, &values, &pin_set, w, Step1Form::Factor)?;
     let targets: Vec<[f64; 2]> = pins.iter().map(|p| p.target).collect();
+    let unturned = vec![Rotation::default(); pins.len()];
     let mut positions = vec![[0.0; 2]; n];
-    two_step.solve(&system, &targets, &mut positions);
+    two_step.solve(&system, &targets, &unturned, &mut positions);
     let quality = quality_3d(surface, &positions)?;
     Ok(Flattening { positions, pins, quality })
 }

@@ -46,7 +46,7 @@ mod topology;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
-pub use deform::{EdgeWeights, Handle, Options, Pin, PinKind, Pinned, Rest, Target};
+pub use deform::{EdgeWeights, Handle, Options, Pin, PinKind, Pinned, Rest, Rotation, Target};
 pub use error::{Error, Result};
 pub use flatten::{flatten, FlattenOptions, Flattening, VertexPin};
 pub use locate::Location;

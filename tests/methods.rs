@@ -232,13 +232,14 @@ fn injective_respects_its_budget() {
     for budget in [1.0, 3.0, 10.0] {
         let rest = Rest::register(mesh.clone(), Options { budget_ms: budget, ..Options::default() }).unwrap();
         let mut p = rest.compile(&[Handle::Point([-0.5, 0.0]), Handle::Point([0.5, 0.0])]).unwrap();
-        // A target held far away: every update has work left.
-        for _ in 0..5 {
+        // A target held far away: every update has work left. The first (the targets moved)
+        // makes one Newton iteration; the held ones iterate until the budget is spent.
+        for k in 0..6 {
             let t = std::time::Instant::now();
             p.update(&[[-0.5, 0.0], [2.5, 1.5]]).unwrap();
             let elapsed = t.elapsed().as_secs_f64() * 1e3;
             let r = p.report();
-            assert!(r.elapsed_ms > budget, "the drag must need more than the budget: {r:?}");
+            assert!(k == 0 || r.elapsed_ms > budget, "the drag must need more than the budget: {r:?}");
             assert!(r.elapsed_ms <= budget + r.longest_step_ms + 1e-9, "{budget} ms: {r:?}");
             // Outside the iteration: the report, copying the positions.
             assert!(

@@ -12,40 +12,23 @@ pub(crate) enum Motion {
     Solve,
     /// A component with no pin: stays at rest.
     Rest,
-    /// A component with one pin (its index): translated with it.
+    /// A component with one pin (its index), which holds a position: translated with it.
     Translate(usize),
-}
-
-/// The motion of every vertex, from the component of each vertex and the component each
-/// pin lies in.
-pub(crate) fn vertex_motion(
-    component_of: &[u32],
-    component_count: usize,
-    pin_components: &[u32],
-) -> Vec<Motion> {
-    let mut per_component = vec![Vec::new(); component_count];
-    for (k, &c) in pin_components.iter().enumerate() {
-        per_component[c as usize].push(k);
-    }
-    let motion: Vec<Motion> = per_component
-        .iter()
-        .map(|pins| match pins.len() {
-            0 => Motion::Rest,
-            1 => Motion::Translate(pins[0]),
-            _ => Motion::Solve,
-        })
-        .collect();
-    component_of.iter().map(|&c| motion[c as usize]).collect()
+    /// A component whose pins hold only rotations: turned and scaled about the first (its
+    /// index), whose point stays.
+    Spin(usize),
 }
 
 /// Writes the positions of the vertices that are not solved: `rest` for a component
-/// without pins, `rest + target − pin point` for a component with one pin. Solved vertices
-/// keep what `positions` holds.
+/// without pins, `rest + target − pin point` for a component with one position pin,
+/// `pin point + τ (rest − pin point)` for one turned by a rotation pin's `τ`. Solved
+/// vertices keep what `positions` holds.
 pub(crate) fn place_unsolved(
     motion: &[Motion],
     rest: &[[f64; 2]],
     pin_points: &[[f64; 2]],
     targets: &[[f64; 2]],
+    rotations: &[super::pins::Rotation],
     positions: &mut [[f64; 2]],
 ) {
     for ((p, m), r) in positions.iter_mut().zip(motion).zip(rest) {
@@ -55,6 +38,12 @@ pub(crate) fn place_unsolved(
             Motion::Translate(h) => {
                 let (t, q) = (targets[h], pin_points[h]);
                 *p = [r[0] + t[0] - q[0], r[1] + t[1] - q[1]];
+            }
+            Motion::Spin(h) => {
+                let q = pin_points[h];
+                let tau = rotations[h].complex();
+                let d = num_complex::Complex64::new(r[0] - q[0], r[1] - q[1]) * tau;
+                *p = [q[0] + d.re, q[1] + d.im];
             }
         }
     }

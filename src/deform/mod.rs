@@ -32,13 +32,16 @@
 
 pub mod clock;
 mod components;
+pub(crate) mod geodesic;
 pub(crate) mod injective;
 pub(crate) mod nonlinear;
+pub(crate) mod pin_set;
 mod pinned;
 pub mod pins;
 pub(crate) mod regularization;
 mod rest;
 mod rotation;
+pub mod starch;
 pub mod stencil;
 mod step1;
 mod step2;
@@ -47,13 +50,14 @@ pub(crate) mod two_step;
 
 pub use clock::set_clock;
 pub use injective::Report;
+pub use pin_set::DISC_STIFFNESS;
 pub use pinned::Pinned;
-pub use pins::{Handle, Pin, PinKind, Target};
+pub use pins::{Handle, Pin, PinKind, Rotation, Target};
 pub use rest::Rest;
+pub use starch::{Overlap, Starch};
 pub use stencil::MIN_COTANGENT_WEIGHT;
 pub use step1::BASIS_MAX_HANDLES;
 
-pub(crate) use pins::PinRow;
 pub(crate) use stencil::edge_stencils;
 pub(crate) use step1::Step1Form;
 

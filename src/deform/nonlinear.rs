@@ -43,7 +43,9 @@
 
 use num_complex::Complex64 as C64;
 
-use super::pins::PinRow;
+use super::components::Motion;
+use super::pin_set::PinSet;
+use super::pins::{PinRow, Rotation};
 use super::regularization::Regularization;
 use super::system::{slot, symbolic_from, Triplets};
 use super::{Options, TermWeights};
@@ -69,8 +71,8 @@ struct LaplacianRow {
 #[derive(Debug)]
 pub(crate) struct NonlinearSystem {
     laplacian: Vec<LaplacianRow>,
-    /// Interior edges `(i, j, rest length)`.
-    edges: Vec<(u32, u32, f64)>,
+    /// Interior edges `(i, j, rest length, mesh edge)`.
+    edges: Vec<(u32, u32, f64, u32)>,
     weights: TermWeights,
     pub(crate) symbolic: Symbolic,
     terms: Vec<f64>,
@@ -171,13 +173,14 @@ impl NonlinearSystem {
         }
 
         // H: the interior edges' lengths.
-        let edges: Vec<(u32, u32, f64)> = mesh
+        let edges: Vec<(u32, u32, f64, u32)> = mesh
             .edges()
             .iter()
-            .filter(|e| !e.is_boundary())
-            .map(|e| (e.i, e.j, (z(e.j) - z(e.i)).norm()))
+            .enumerate()
+            .filter(|(_, e)| !e.is_boundary())
+            .map(|(k, e)| (e.i, e.j, (z(e.j) - z(e.i)).norm(), k as u32))
             .collect();
-        for &(i, j, _) in &edges {
+        for &(i, j, _, _) in &edges {
             add_row(&[(i, 1.0), (j, -1.0)], wh2);
         }
         // Every vertex on the diagonal, so that the pattern holds the pins' and the
@@ -266,8 +269,19 @@ impl NormalFactor {
 #[derive(Debug)]
 pub(crate) struct Nonlinear {
     factor: NormalFactor,
-    rows: Vec<PinRow>,
+    /// The position rows, with the pin each belongs to.
+    rows: Vec<(usize, PinRow)>,
     w2: f64,
+    /// Each interior edge's multiplier of the edge-length term (starch, discs), aligned
+    /// with the system's edges; empty when all are 1.
+    stiffness: Vec<f64>,
+    /// The edges whose rotation a pin holds: `(i, j, rest edge v_j − v_i, pin)`, each the
+    /// row `w (v_j − v_i − s e^{iθ} e⁰)`.
+    turns: Vec<(u32, u32, C64, usize)>,
+    /// The pin set, for the scales' falloff, when any pin holds a rotation.
+    pins: Option<PinSet>,
+    /// Each vertex's log-scale in this update (with `pins`).
+    log_scales: Vec<f64>,
     /// Which vertices are solved (the others keep what the two-step start gave them).
     solved: Vec<bool>,
     iterations: u32,
@@ -280,32 +294,70 @@ pub(crate) struct Nonlinear {
 }
 
 impl Nonlinear {
-    /// Factorises `AᵀA` for the pins `rows` (weight `w`); `solved[v]` says which vertices
-    /// are solved ([conventions](crate::conventions) 8: the others get identity rows).
+    /// Factorises `AᵀA` for `pins` (position rows of weight `w`; each edge a rotating pin
+    /// holds gets the row `w (v_j − v_i − s e^{iθ} e⁰)`, the edge-length rows of stiffer
+    /// edges their multiplier). The vertices the pins do not solve get identity rows
+    /// ([conventions](crate::conventions) 8).
     pub(crate) fn new(
         system: &NonlinearSystem,
-        rows: Vec<PinRow>,
+        mesh: &Mesh,
+        pins: &PinSet,
         w: f64,
-        solved: Vec<bool>,
         options: &Options,
     ) -> Result<Nonlinear> {
         let s = &system.symbolic;
         let w2 = w * w;
+        let solved: Vec<bool> = pins.motion.iter().map(|m| matches!(m, Motion::Solve)).collect();
+        let rows = pins.positions.clone();
+        let wh2 = system.weights.edge_length * system.weights.edge_length;
+        let stiffness: Vec<f64> = match &pins.multipliers {
+            Some(m) => system.edges.iter().map(|e| m[e.3 as usize]).collect(),
+            None => Vec::new(),
+        };
+        let v = mesh.vertices();
+        let mut turns = Vec::new();
+        for r in &pins.rotations {
+            for &k in &r.edges {
+                let e = mesh.edges()[k as usize];
+                let d = C64::new(
+                    v[e.j as usize][0] - v[e.i as usize][0],
+                    v[e.j as usize][1] - v[e.i as usize][1],
+                );
+                turns.push((e.i, e.j, d, r.pin));
+            }
+        }
+        // The extra rows' entries: pins, turned edges, the stiffer edges' excess.
+        let mut extra: Vec<(u32, u32, f64)> = Vec::new();
+        for (_, row) in &rows {
+            for (vp, wp) in row.terms() {
+                for (vq, wq) in row.terms() {
+                    if vp <= vq {
+                        extra.push((vp, vq, w2 * wp * wq));
+                    }
+                }
+            }
+        }
+        let mut edge_row = |i: u32, j: u32, x: f64| {
+            extra.push((i, i, x));
+            extra.push((j, j, x));
+            extra.push((i.min(j), i.max(j), -x));
+        };
+        for &(i, j, _, _) in &turns {
+            edge_row(i, j, w2);
+        }
+        for (&(i, j, _, _), &m) in system.edges.iter().zip(&stiffness) {
+            if m != 1.0 {
+                edge_row(i, j, (m - 1.0) * wh2);
+            }
+        }
         fn assemble<T: Copy + std::ops::AddAssign + From<f64>>(
             s: &Symbolic,
             mut values: Vec<T>,
-            rows: &[PinRow],
-            w2: f64,
+            extra: &[(u32, u32, f64)],
             solved: &[bool],
         ) -> Vec<T> {
-            for row in rows {
-                for (vp, wp) in row.terms() {
-                    for (vq, wq) in row.terms() {
-                        if vp <= vq {
-                            values[slot(s, vp as usize, vq as usize)] += T::from(w2 * wp * wq);
-                        }
-                    }
-                }
+            for &(p, q, x) in extra {
+                values[slot(s, p as usize, q as usize)] += T::from(x);
             }
             for (v, &on) in solved.iter().enumerate() {
                 if !on {
@@ -318,11 +370,11 @@ impl Nonlinear {
         }
         let factor = match &system.terms_complex {
             None => NormalFactor::Real(
-                Factor::new(s, &assemble(s, system.terms.clone(), &rows, w2, &solved))?,
+                Factor::new(s, &assemble(s, system.terms.clone(), &extra, &solved))?,
                 Workspace::new(s),
             ),
             Some(z) => NormalFactor::Complex(
-                Factor::new(s, &assemble(s, z.clone(), &rows, w2, &solved))?,
+                Factor::new(s, &assemble(s, z.clone(), &extra, &solved))?,
                 Workspace::new(s),
                 vec![C64::new(0.0, 0.0); solved.len()],
             ),
@@ -333,6 +385,10 @@ impl Nonlinear {
             factor,
             rows,
             w2,
+            stiffness,
+            turns,
+            pins: (!pins.rotations.is_empty()).then(|| pins.clone()),
+            log_scales: vec![0.0; if pins.rotations.is_empty() { 0 } else { n }],
             solved,
             iterations: options.iterations,
             preserve_area: options.preserve_area,
@@ -343,12 +399,13 @@ impl Nonlinear {
         })
     }
 
-    /// Refines `positions` (the two-step result for `targets`) in place by the
-    /// configured number of iterations; returns the number of back-substitutions made.
+    /// Refines `positions` (the two-step result for `targets` and `rotations`) in place by
+    /// the configured number of iterations; returns the number of back-substitutions made.
     pub(crate) fn refine(
         &mut self,
         system: &NonlinearSystem,
         targets: &[[f64; 2]],
+        rotations: &[Rotation],
         positions: &mut [[f64; 2]],
     ) -> usize {
         if self.iterations == 0 {
@@ -357,9 +414,12 @@ impl Nonlinear {
         // Every row is translation-invariant but the pins': work relative to the targets'
         // centroid, as the two-step method does (conventions 6).
         let mut centre = [0.0; 2];
-        for t in targets {
-            centre[0] += t[0] / targets.len() as f64;
-            centre[1] += t[1] / targets.len() as f64;
+        for (k, _) in &self.rows {
+            centre[0] += targets[*k][0] / self.rows.len() as f64;
+            centre[1] += targets[*k][1] / self.rows.len() as f64;
+        }
+        if let Some(pins) = &self.pins {
+            pins.log_scales(rotations, &mut self.log_scales);
         }
         for (x, p) in self.x.iter_mut().zip(positions.iter()) {
             *x = Pair([p[0] - centre[0], p[1] - centre[1]]);
@@ -373,9 +433,10 @@ impl Nonlinear {
             solves += 1;
         }
         for _ in 0..self.iterations {
-            self.right_hand_side(system, targets, centre);
+            self.right_hand_side(system, targets, rotations, centre);
+            let scales = self.pins.as_ref().map(|_| &self.log_scales[..]);
             let regularization = system.regularization.as_ref().map(|r| {
-                edge_targets(r, &system.edges, &self.x, &mut self.edge_targets);
+                edge_targets(r, &system.edges, scales, &self.x, &mut self.edge_targets);
                 (r, &self.edge_targets[..])
             });
             self.factor.solve(&system.symbolic, &mut self.rhs, regularization);
@@ -394,7 +455,13 @@ impl Nonlinear {
     }
 
     /// `Aᵀ b(V^k)` into `self.rhs` at the current `self.x` (section 4.2).
-    fn right_hand_side(&mut self, system: &NonlinearSystem, targets: &[[f64; 2]], centre: [f64; 2]) {
+    fn right_hand_side(
+        &mut self,
+        system: &NonlinearSystem,
+        targets: &[[f64; 2]],
+        rotations: &[Rotation],
+        centre: [f64; 2],
+    ) {
         let x = &self.x;
         let rhs = &mut self.rhs;
         rhs.fill(Pair::default());
@@ -418,20 +485,31 @@ impl Nonlinear {
         // M: no right-hand side. H: e(v_i, v_j) = l̃ (v_i − v_j)/|v_i − v_j|, the rest
         // length along the current direction (a collapsed edge has no direction and adds
         // nothing).
+        // With rotating pins, the rest length is scaled by the pins' falloff.
         let wh2 = w.edge_length * w.edge_length;
+        let scales = self.pins.as_ref().map(|_| &self.log_scales[..]);
         if wh2 > 0.0 {
-            for &(i, j, rest) in &system.edges {
+            for (k, &(i, j, rest, _)) in system.edges.iter().enumerate() {
                 let d = z(i) - z(j);
                 let len = d.norm();
                 if len > 0.0 {
-                    let e = d * (rest / len);
-                    add(i, e, wh2);
-                    add(j, e, -wh2);
+                    let s = scales.map_or(1.0, |l| (0.5 * (l[i as usize] + l[j as usize])).exp());
+                    let m = self.stiffness.get(k).copied().unwrap_or(1.0);
+                    let e = d * (s * rest / len);
+                    add(i, e, m * wh2);
+                    add(j, e, -m * wh2);
                 }
             }
         }
+        // The turned edges: v_j − v_i against s e^{iθ} e⁰.
+        for &(i, j, rest, pin) in &self.turns {
+            let e = rotations[pin].complex() * rest;
+            add(j, e, self.w2);
+            add(i, e, -self.w2);
+        }
         // C: the pins.
-        for (row, t) in self.rows.iter().zip(targets) {
+        for (k, row) in &self.rows {
+            let t = targets[*k];
             let c = C64::new(t[0] - centre[0], t[1] - centre[1]);
             for (v, weight) in row.terms() {
                 add(v, c, self.w2 * weight);
@@ -448,11 +526,18 @@ impl Nonlinear {
 
 /// The regularisation's targets of the edge-length rows at `x`: `τ_k = l̃_k (v_j − v_i) /
 /// |v_j − v_i| / e_k⁰` (the rest ratio 1 on a collapsed edge).
-fn edge_targets(r: &Regularization, edges: &[(u32, u32, f64)], x: &[Pair], out: &mut [C64]) {
-    for ((([i, j], inverse), &(_, _, rest)), t) in r.edges().zip(edges).zip(out.iter_mut()) {
+fn edge_targets(
+    r: &Regularization,
+    edges: &[(u32, u32, f64, u32)],
+    scales: Option<&[f64]>,
+    x: &[Pair],
+    out: &mut [C64],
+) {
+    for ((([i, j], inverse), &(_, _, rest, _)), t) in r.edges().zip(edges).zip(out.iter_mut()) {
         let d = C64::new(x[j as usize].0[0] - x[i as usize].0[0], x[j as usize].0[1] - x[i as usize].0[1]);
         let len = d.norm();
-        *t = if len > 0.0 { d * (rest / len) * inverse } else { C64::new(1.0, 0.0) };
+        let s = scales.map_or(1.0, |l| (0.5 * (l[i as usize] + l[j as usize])).exp());
+        *t = if len > 0.0 { d * (s * rest / len) * inverse } else { C64::new(s, 0.0) };
     }
 }
 

@@ -1,33 +1,36 @@
 //! [`Pinned`]: a compiled pin set on a [`Rest`] shape (Igarashi & Igarashi 2009, section 6,
 //! "compilation" and "interactive update").
 
-use super::components::{place_unsolved, vertex_motion, Motion};
+use super::components::place_unsolved;
 use super::injective::{Injective, Report};
 use super::nonlinear::Nonlinear;
-use super::pins::{resolve_handle, Pin, PinRow};
-use super::rest::Rest;
+use super::pin_set::PinSet;
+use super::pins::{Pin, Rotation};
+use super::rest::{Rest, RestData};
+use super::starch::{edge_multipliers, Starch};
 use super::step1::Step1Form;
 use super::step2::Step2;
 use super::two_step::TwoStep;
 use super::Method;
 use crate::error::{check_finite, Error, Result};
-use crate::geometry::{dot, sub};
 use crate::limits::MAX_COORDINATE;
-use crate::locate::{Location, BOUNDARY_TOLERANCE};
+use crate::locate::Location;
 use crate::solver::Factor;
 
-/// A compiled pin set on a [`Rest`] shape, with both numeric factorisations and every
-/// buffer an update needs. It can only be updated; compile the [`Rest`] again (see
-/// [`Pinned::rest`]) for another pin set.
+/// A compiled pin set on a [`Rest`] shape, with the numeric factorisations and every
+/// buffer an update needs. It is updated every frame; [`Pinned::recompile`] makes another
+/// pin set keeping the pose and the starch; [`Pinned::set_starch`] refactorises in place.
 #[derive(Debug)]
 pub struct Pinned {
     rest: Rest,
-    pins: Vec<Pin>,
-    locations: Vec<Location>,
-    points: Vec<[f64; 2]>,
-    vertex_motion: Vec<Motion>,
+    pins: PinSet,
+    /// The starch as given, and its edge multipliers (before the discs').
+    starch: Vec<Starch>,
+    starch_multipliers: Option<Vec<f64>>,
     solver: Solver,
     positions: Vec<[f64; 2]>,
+    /// `[0, 1]` for every pin: the rotations of an update that gives none.
+    unturned: Vec<Rotation>,
     report: Report,
 }
 
@@ -43,68 +46,20 @@ impl Pinned {
     /// See [`Rest::compile_pins`]; the injective method starts from `start` (the rest
     /// shape when `None`, or where it is not injective).
     pub(crate) fn compile(rest: &Rest, pins: &[Pin], start: Option<&[[f64; 2]]>) -> Result<Pinned> {
+        Pinned::build(rest, pins, Vec::new(), None, start)
+    }
+
+    fn build(
+        rest: &Rest,
+        pins: &[Pin],
+        starch: Vec<Starch>,
+        starch_multipliers: Option<Vec<f64>>,
+        start: Option<&[[f64; 2]]>,
+    ) -> Result<Pinned> {
         let data = &rest.0;
         let mesh = &data.mesh;
-        let locations: Vec<Location> =
-            pins.iter().enumerate().map(|(k, p)| resolve_handle(data, k, &p.at)).collect::<Result<_>>()?;
-        let points: Vec<[f64; 2]> =
-            locations.iter().map(|l| mesh.point_at(l.triangle as usize, l.weights)).collect();
-        let tolerance = BOUNDARY_TOLERANCE * mesh.diameter();
-        for a in 0..points.len() {
-            for b in a + 1..points.len() {
-                let d = sub(points[a], points[b]);
-                if dot(d, d).sqrt() <= tolerance {
-                    return Err(Error::CoincidentHandles { first: a, second: b });
-                }
-            }
-        }
-        let rows: Vec<PinRow> = locations.iter().map(|l| PinRow::at(mesh, l)).collect();
-
-        // Conventions 8, per connected component.
-        let pin_components: Vec<u32> =
-            rows.iter().map(|r| mesh.component_of()[r.first_vertex() as usize]).collect();
-        let vertex_motion = vertex_motion(mesh.component_of(), mesh.component_count(), &pin_components);
-
-        let system = &data.system;
-        let w = data.options.handle_weight;
-        let mut values = system.edge_values();
-        for row in &rows {
-            values.add_pin_row(system, row, w * w);
-        }
-        for (v, m) in vertex_motion.iter().enumerate() {
-            if *m != Motion::Solve {
-                values.set_identity(system, v);
-            }
-        }
-        let start = start.unwrap_or(mesh.vertices());
-        let solver = match data.options.method {
-            Method::TwoStep => {
-                Solver::TwoStep(Box::new(TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?))
-            }
-            Method::Nonlinear => {
-                let weng = data
-                    .nonlinear
-                    .as_ref()
-                    .ok_or_else(|| Error::Factorization("no nonlinear system".into()))?;
-                let solved = vertex_motion.iter().map(|m| *m == Motion::Solve).collect();
-                let nonlinear = Nonlinear::new(weng, rows.clone(), w, solved, &data.options)?;
-                let two_step = TwoStep::new(system, &values, rows, w, Step1Form::ForUpdates)?;
-                Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
-            }
-            Method::Injective => {
-                // Only step 2's factor: it preconditions the Newton systems.
-                let step2 = Step2::new(system, Factor::new(&system.step2, &values.step2)?);
-                Solver::Injective(Box::new(Injective::new(
-                    system,
-                    mesh,
-                    &vertex_motion,
-                    rows,
-                    w,
-                    step2,
-                    start,
-                )))
-            }
-        };
+        let set = PinSet::new(data, data.graph(), pins, starch_multipliers.as_deref())?;
+        let solver = Solver::new(data, &set, start.unwrap_or(mesh.vertices()))?;
         let mut positions = mesh.vertices().to_vec();
         if let Solver::Injective(injective) = &solver {
             for (p, q) in positions.iter_mut().zip(injective.positions()) {
@@ -113,14 +68,49 @@ impl Pinned {
         }
         Ok(Pinned {
             rest: rest.clone(),
-            pins: pins.to_vec(),
-            locations,
-            points,
-            vertex_motion,
+            unturned: vec![Rotation::default(); pins.len()],
+            pins: set,
+            starch,
+            starch_multipliers,
             solver,
             positions,
             report: Report { converged: true, ..Report::default() },
         })
+    }
+
+    /// Another pin set on the same rest shape, keeping this one's starch and, for the
+    /// injective method, its pose: a new pin whose first target is where its rest point is
+    /// now moves nothing. Errors: those of [`Rest::compile_pins`].
+    pub fn recompile(&self, pins: &[Pin]) -> Result<Pinned> {
+        Pinned::build(
+            &self.rest,
+            pins,
+            self.starch.clone(),
+            self.starch_multipliers.clone(),
+            Some(&self.positions),
+        )
+    }
+
+    /// Stiffens regions of the rest shape ([`super::starch`]); an empty list removes the
+    /// starch. A numeric refactorisation of this pin set's matrices, no re-registration;
+    /// the injective method keeps its pose. Errors (the pin set is unchanged):
+    /// [`Error::NonFinite`], [`Error::PointOutside`] (naming the region),
+    /// [`Error::BadOption`] (an amount not finite, an extent not finite and positive).
+    pub fn set_starch(&mut self, starch: &[Starch]) -> Result<()> {
+        let data = &self.rest.0;
+        let multipliers = if starch.is_empty() {
+            None
+        } else {
+            Some(edge_multipliers(&data.mesh, data.graph(), &|p| self.rest.locate(p), starch)?)
+        };
+        let pins = self.pins.pins.clone();
+        *self = Pinned::build(&self.rest, &pins, starch.to_vec(), multipliers, Some(&self.positions))?;
+        Ok(())
+    }
+
+    /// The starch this pin set was given.
+    pub fn starch(&self) -> &[Starch] {
+        &self.starch
     }
 
     /// The rest shape this pin set was compiled on.
@@ -130,22 +120,22 @@ impl Pinned {
 
     /// The number of pins.
     pub fn handle_count(&self) -> usize {
-        self.points.len()
+        self.pins.points.len()
     }
 
     /// The pins, as compiled.
     pub fn pins(&self) -> &[Pin] {
-        &self.pins
+        &self.pins.pins
     }
 
     /// Where each pin was located: triangle and barycentric weights.
     pub fn locations(&self) -> &[Location] {
-        &self.locations
+        &self.pins.locations
     }
 
     /// Each pin's rest-space point (the targets that leave the shape at rest).
     pub fn handle_points(&self) -> &[[f64; 2]] {
-        &self.points
+        &self.pins.points
     }
 
     /// The positions computed by the last update (the rest shape before the first).
@@ -153,39 +143,62 @@ impl Pinned {
         &self.positions
     }
 
-    /// Moves the pins to `targets` (same order as compiled) and returns the deformed
-    /// positions, one per vertex (section 6, "interactive update"): step 1 (equation 5), a
-    /// rotation fit per edge (equation 6, normalised), step 2 (equation 7). No factorisation
-    /// and no allocation. The result depends on `targets` alone, not on earlier updates
-    /// ([conventions](crate::conventions) 6).
+    /// Moves the pins to `targets` (same order as compiled; unturned) and returns the
+    /// deformed positions, one per vertex: [`Pinned::update_with`] with every rotation at
+    /// angle 0 and scale 1.
+    pub fn update(&mut self, targets: &[[f64; 2]]) -> Result<&[[f64; 2]]> {
+        let unturned = std::mem::take(&mut self.unturned);
+        let result = self.solve(targets, &unturned);
+        self.unturned = unturned;
+        result?;
+        Ok(&self.positions)
+    }
+
+    /// Moves the pins to `targets` and turns the bend and advanced pins by `rotations`
+    /// (same order as compiled: a target and a rotation per pin; bend pins ignore their
+    /// target, position pins their rotation) and returns the deformed positions, one per
+    /// vertex (section 6, "interactive update"). The two-step method: step 1 (equation 5),
+    /// a rotation fit per edge (equation 6, normalised), step 2 (equation 7); no
+    /// factorisation and no allocation, and the result depends on the targets alone
+    /// ([conventions](crate::conventions) 6). The other methods: see [`super::Method`].
     ///
     /// Errors (the puppet is unchanged): [`Error::CountMismatch`], [`Error::NonFinite`],
-    /// [`Error::TooLarge`] (a coordinate beyond [`MAX_COORDINATE`]).
-    pub fn update(&mut self, targets: &[[f64; 2]]) -> Result<&[[f64; 2]]> {
+    /// [`Error::TooLarge`] (a coordinate beyond [`MAX_COORDINATE`]), [`Error::BadOption`]
+    /// for a scale that is not positive.
+    pub fn update_with(&mut self, targets: &[[f64; 2]], rotations: &[Rotation]) -> Result<&[[f64; 2]]> {
+        self.solve(targets, rotations)?;
+        Ok(&self.positions)
+    }
+
+    fn solve(&mut self, targets: &[[f64; 2]], rotations: &[Rotation]) -> Result<()> {
         self.check_targets(targets)?;
+        check_rotations(rotations, self.pins.pins.len())?;
         let rest = &self.rest.0;
         match &mut self.solver {
             Solver::TwoStep(two_step) => {
-                two_step.solve(&rest.system, targets, &mut self.positions);
+                two_step.solve(&rest.system, targets, rotations, &mut self.positions);
                 self.report = Report { converged: true, iterations: 0, solves: 2, ..Report::default() };
             }
             Solver::Nonlinear(two_step, nonlinear) => {
-                two_step.solve(&rest.system, targets, &mut self.positions);
-                let weng = rest.nonlinear.as_ref().expect("compiled with the nonlinear system");
-                let solves = nonlinear.refine(weng, targets, &mut self.positions);
+                two_step.solve(&rest.system, targets, rotations, &mut self.positions);
+                let solves = match &rest.nonlinear {
+                    Some(weng) => nonlinear.refine(weng, targets, rotations, &mut self.positions),
+                    None => 0,
+                };
                 let iterations = rest.options.iterations as usize;
                 self.report = Report { converged: true, iterations, solves: 2 + solves, ..Report::default() };
             }
             Solver::Injective(injective) => {
-                self.report = injective.solve(&rest.system, targets, rest.options.budget_ms);
+                self.report = injective.solve(&rest.system, targets, rotations, rest.options.budget_ms);
                 for (p, q) in self.positions.iter_mut().zip(injective.positions()) {
                     *p = q;
                 }
             }
         }
-        place_unsolved(&self.vertex_motion, rest.mesh.vertices(), &self.points, targets, &mut self.positions);
+        let p = &self.pins;
+        place_unsolved(&p.motion, rest.mesh.vertices(), &p.points, targets, rotations, &mut self.positions);
         self.report.lag = self.lag(targets);
-        Ok(&self.positions)
+        Ok(())
     }
 
     /// What the last update did: the pins' largest miss, whether it converged, its work.
@@ -204,11 +217,15 @@ impl Pinned {
         self.report = Report { converged: true, ..Report::default() };
     }
 
-    /// The largest distance between a pin's point on the positions and its target.
+    /// The largest distance between a position-holding pin's point on the positions and
+    /// its target.
     fn lag(&self, targets: &[[f64; 2]]) -> f64 {
         let mesh = &self.rest.0.mesh;
         let mut lag = 0.0f64;
-        for (l, t) in self.locations.iter().zip(targets) {
+        for ((l, t), pin) in self.pins.locations.iter().zip(targets).zip(&self.pins.pins) {
+            if !pin.kind.holds_position() {
+                continue;
+            }
             let tri = mesh.triangles()[l.triangle as usize];
             let mut p = [0.0; 2];
             for (&v, &w) in tri.iter().zip(&l.weights) {
@@ -235,8 +252,59 @@ impl Pinned {
     }
 
     fn check_targets(&self, targets: &[[f64; 2]]) -> Result<()> {
-        check_targets(targets, self.points.len())
+        check_targets(targets, self.pins.points.len())
     }
+}
+
+impl Solver {
+    /// The method's state for a pin set; the injective method starts from `start`.
+    fn new(data: &RestData, pins: &PinSet, start: &[[f64; 2]]) -> Result<Solver> {
+        let system = &data.system;
+        let w = data.options.handle_weight;
+        let values = system.values_for(pins, w);
+        Ok(match data.options.method {
+            Method::TwoStep => {
+                Solver::TwoStep(Box::new(TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates)?))
+            }
+            Method::Nonlinear => {
+                let weng = data
+                    .nonlinear
+                    .as_ref()
+                    .ok_or_else(|| Error::Factorization("no nonlinear system".into()))?;
+                let nonlinear = Nonlinear::new(weng, &data.mesh, pins, w, &data.options)?;
+                let two_step = TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates)?;
+                Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
+            }
+            Method::Injective => {
+                // Only step 2's factor: it preconditions the Newton systems.
+                let step2 = Step2::new(system, Factor::new(&system.step2, &values.step2)?);
+                Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
+            }
+        })
+    }
+}
+
+/// Checks one frame's rotations: one per pin, finite angles, finite positive scales.
+pub(crate) fn check_rotations(rotations: &[Rotation], expected: usize) -> Result<()> {
+    if rotations.len() != expected {
+        return Err(Error::CountMismatch { what: "rotations", got: rotations.len(), expected });
+    }
+    for (index, r) in rotations.iter().enumerate() {
+        if !r.angle.is_finite() {
+            return Err(Error::NonFinite { what: "rotations", index, flat: 2 * index, value: r.angle });
+        }
+        if !r.scale.is_finite() {
+            return Err(Error::NonFinite { what: "rotations", index, flat: 2 * index + 1, value: r.scale });
+        }
+        if r.scale <= 0.0 || r.scale > 1e6 || r.scale < 1e-6 {
+            return Err(Error::BadOption {
+                name: "scale",
+                value: Some(r.scale),
+                reason: format!("(pin {index}) is not in [10⁻⁶, 10⁶]"),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Checks one frame's targets: their count, and every coordinate finite and within

@@ -28,43 +28,108 @@ pub enum Handle {
     },
 }
 
-/// What a pin holds.
+/// What a pin holds (After Effects' pin tools).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[non_exhaustive]
 pub enum PinKind {
-    /// The point follows its target; the shape around it turns as the solve decides
-    /// (After Effects' Position pin, Photoshop's "Auto" rotation).
+    /// The point follows its target; the shape around it turns and scales as the solve
+    /// decides (After Effects' Position pin, Photoshop's "Auto" rotation).
     #[default]
     Position,
+    /// The shape around the point turns by an angle and scales by a factor; the point goes
+    /// where the shape takes it (After Effects' Bend pin).
+    Bend,
+    /// The point follows its target and the shape around it turns and scales (After
+    /// Effects' Advanced pin, Photoshop's "Fixed" rotation).
+    Advanced,
 }
 
-/// A pin of a compiled set: where it holds the rest shape and what it holds.
+impl PinKind {
+    /// Whether the pin holds its point at a target.
+    pub fn holds_position(self) -> bool {
+        matches!(self, PinKind::Position | PinKind::Advanced)
+    }
+
+    /// Whether the pin holds a rotation and a scale.
+    pub fn holds_rotation(self) -> bool {
+        matches!(self, PinKind::Bend | PinKind::Advanced)
+    }
+}
+
+/// A pin of a compiled set: where it holds the rest shape, what it holds, and how much of
+/// it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pin {
     /// Where on the rest shape.
     pub at: Handle,
     /// What it holds.
     pub kind: PinKind,
+    /// `0` (the default): the pin holds a point (and, rotating, the triangle under it).
+    /// `> 0`: it holds the disc of the rest shape within this distance of its point,
+    /// measured along the mesh, rigidly (and, rotating, turns all of it), in the mesh's
+    /// units. A point pin's distortion concentrates in a spike that keeps its size in
+    /// pixels as the mesh is refined; a disc has no spike.
+    pub radius: f64,
 }
 
 impl From<Handle> for Pin {
     fn from(at: Handle) -> Pin {
-        Pin { at, kind: PinKind::Position }
+        Pin { at, kind: PinKind::Position, radius: 0.0 }
     }
 }
 
-/// Where one pin goes in a frame.
+impl Pin {
+    /// A pin of `kind` at `at`.
+    pub fn new(at: Handle, kind: PinKind) -> Pin {
+        Pin { at, kind, radius: 0.0 }
+    }
+
+    /// The same pin holding a disc of `radius`.
+    pub fn with_radius(self, radius: f64) -> Pin {
+        Pin { radius, ..self }
+    }
+}
+
+/// How one pin turns and scales in a frame (bend and advanced pins; position pins ignore
+/// it): the angle in radians, counter-clockwise in the mesh's coordinates
+/// ([conventions](crate::conventions) 3; clockwise on screen for a y-down picture),
+/// relative to rest, and the scale, 1 at rest. The angle is a real number, not wrapped:
+/// 2.5 turns are 2.5 turns for the injective method, which follows the pose's history;
+/// the stateless methods see the rotation it makes (modulo a turn).
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
+pub struct Rotation {
+    /// Radians, counter-clockwise.
+    pub angle: f64,
+    /// The scale factor, > 0.
+    pub scale: f64,
+}
+
+impl Default for Rotation {
+    fn default() -> Self {
+        Rotation { angle: 0.0, scale: 1.0 }
+    }
+}
+
+impl Rotation {
+    /// The similarity as a complex number `scale · e^{i angle}` ([conventions]
+    /// (crate::conventions) 3).
+    pub(crate) fn complex(self) -> num_complex::Complex64 {
+        num_complex::Complex64::from_polar(self.scale, self.angle)
+    }
+}
+
+/// Where one pin goes in a frame: its target and its rotation.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
-    /// The point the pin's rest point moves to.
+    /// The point the pin's rest point moves to (ignored for bend pins).
     pub position: [f64; 2],
+    /// The rotation and scale (ignored for position pins).
+    pub rotation: Rotation,
 }
 
 impl Target {
-    /// A target at `position`.
+    /// A target at `position`, not turned.
     pub fn at(position: [f64; 2]) -> Target {
-        Target { position }
+        Target { position, rotation: Rotation::default() }
     }
 }
 

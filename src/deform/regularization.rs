@@ -182,7 +182,8 @@ fn push_products(t: &mut Triplets<C64>, terms: &[(u32, C64)], beta: f64) {
 mod tests {
     use num_complex::Complex64 as C64;
 
-    use crate::deform::pins::PinRow;
+    use crate::deform::pin_set::PinSet;
+    use crate::deform::pins::Rotation;
     use crate::deform::step1::Step1Form;
     use crate::deform::two_step::TwoStep;
     use crate::deform::{Options, Rest};
@@ -274,15 +275,12 @@ mod tests {
         let data = &rest.0;
         let w = data.options.handle_weight;
         let pinned = [7usize, 28];
-        let rows: Vec<PinRow> = pinned.iter().map(|&v| PinRow::vertex(v as u32)).collect();
-        let mut values = data.system.edge_values();
-        for r in &rows {
-            values.add_pin_row(&data.system, r, w * w);
-        }
-        let mut two = TwoStep::new(&data.system, &values, rows, w, Step1Form::Factor).unwrap();
+        let set = PinSet::of_vertices(&[7, 28], mesh.vertices().len());
+        let values = data.system.values_for(&set, w);
+        let mut two = TwoStep::new(&data.system, &values, &set, w, Step1Form::Factor).unwrap();
         let targets = [[0.5, 0.8], [6.5, 3.0]];
         let mut out = vec![[0.0; 2]; mesh.vertices().len()];
-        two.solve(&data.system, &targets, &mut out);
+        two.solve(&data.system, &targets, &[Rotation::default(); 2], &mut out);
         let centre = [(targets[0][0] + targets[1][0]) / 2.0, (targets[0][1] + targets[1][1]) / 2.0];
         let pins: Vec<(usize, C64)> = pinned
             .iter()

@@ -1,12 +1,14 @@
 //! [`Rest`]: a registered rest shape (Igarashi & Igarashi 2009, section 6,
 //! "registration"): everything that depends on the mesh alone.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
+use super::geodesic::Graph;
 use super::nonlinear::NonlinearSystem;
 use super::pinned::Pinned;
 use super::pins::{Handle, Pin};
 use super::regularization::Regularization;
+use super::starch::{triangle_depths, Overlap};
 use super::stencil::edge_stencils;
 use super::system::System;
 use super::{check_options, Method, Options};
@@ -22,6 +24,15 @@ pub(crate) struct RestData {
     pub(crate) system: System,
     /// The nonlinear method's rows and pattern, when it is the method.
     pub(crate) nonlinear: Option<NonlinearSystem>,
+    /// The edge graph for distances along the mesh, made when first needed.
+    graph: OnceLock<Graph>,
+}
+
+impl RestData {
+    /// The edge graph for distances along the mesh ([`super::geodesic`]).
+    pub(crate) fn graph(&self) -> &Graph {
+        self.graph.get_or_init(|| Graph::new(&self.mesh))
+    }
 }
 
 /// A registered rest shape: the mesh, a point locator, the per-edge fit rows (equation 3,
@@ -50,7 +61,7 @@ impl Rest {
             None
         };
         let locator = Locator::new(&mesh);
-        Ok(Rest(Arc::new(RestData { mesh, locator, options, system, nonlinear })))
+        Ok(Rest(Arc::new(RestData { mesh, locator, options, system, nonlinear, graph: OnceLock::new() })))
     }
 
     /// The rest mesh.
@@ -89,6 +100,14 @@ impl Rest {
     /// [`Rest::compile`] for pins of any kind.
     pub fn compile_pins(&self, pins: &[Pin]) -> Result<Pinned> {
         Pinned::compile(self, pins, None)
+    }
+
+    /// Each triangle's depth for the overlap regions `overlap` (0 where none reaches):
+    /// where the deformed mesh overlaps itself, draw triangles of larger depth in front
+    /// ([`super::starch`]). Errors name the region: [`crate::Error::NonFinite`],
+    /// [`crate::Error::PointOutside`], [`crate::Error::BadOption`].
+    pub fn triangle_depths(&self, overlap: &[Overlap]) -> Result<Vec<f32>> {
+        triangle_depths(&self.0.mesh, self.0.graph(), &|p| self.locate(p), overlap)
     }
 
     /// [`Rest::compile_pins`] keeping a pose: the injective method starts from `positions`

@@ -55,3 +55,23 @@ fn add_rotated_edge(s: &EdgeFit, rotation: C64, xy: &mut [Pair]) {
     xy[i].0[0] -= b.re;
     xy[i].0[1] -= b.im;
 }
+
+/// Each edge's rotation `R_k = t_k/|t_k|` fitted to the step-1 result `z1`, into `out`.
+pub(crate) fn fit_rotations(edges: &[EdgeFit], z1: &[C64], out: &mut [C64]) {
+    for (s, r) in edges.iter().zip(out.iter_mut()) {
+        *r = rotation(s, z1);
+    }
+}
+
+/// Adds each edge's rest edge turned and scaled by its similarity `similarities[k]` and
+/// weighed by its energy multiplier, `m_k ω² S_k e_k`, to step 2's right-hand side.
+pub(crate) fn add_similar_edges(
+    edges: &[EdgeFit],
+    similarities: &[C64],
+    multipliers: &[f64],
+    xy: &mut [Pair],
+) {
+    for ((s, &r), &m) in edges.iter().zip(similarities).zip(multipliers) {
+        add_rotated_edge(s, r * m, xy);
+    }
+}

@@ -15,9 +15,12 @@
 
 use num_complex::Complex64 as C64;
 
+use super::components::Motion;
+use super::pin_set::PinSet;
 use super::pins::PinRow;
 use super::regularization::Regularization;
 use super::stencil::{EdgeFit, Stencil};
+use super::two_step::rotation_row_weight;
 use crate::error::Result;
 use crate::solver::{Pattern, Symbolic};
 
@@ -98,21 +101,54 @@ impl System {
     }
 
     /// The edge terms with edge `k`'s rows multiplied by `√multipliers[k]` (its energy by
-    /// `multipliers[k]`), in the same patterns. All ones give [`System::edge_values`] up to
-    /// the order of summation.
-    #[allow(dead_code)] // the starch of issue 11 re-weights the edges
+    /// `multipliers[k]`), in the same patterns, with the regularisation's terms as
+    /// registered. All ones give [`System::edge_values`] up to the order of summation.
     pub(crate) fn weighted_edge_values(&self, multipliers: &[f64]) -> Values {
         let mut values = Values {
             step1: vec![C64::new(0.0, 0.0); self.edge_terms.step1.len()],
             step2: vec![0.0; self.edge_terms.step2.len()],
             step2_complex: None,
         };
-        let (t1, t2) = edge_triplets(&self.stencils, Some(multipliers));
+        let (mut t1, t2) = edge_triplets(&self.stencils, Some(multipliers));
+        if let Some(r) = &self.regularization {
+            t1.extend(r.step1_triplets(&self.stencils));
+        }
         for (r, c, v) in t1 {
             values.step1[slot(&self.step1, r as usize, c as usize)] += v;
         }
         for (r, c, v) in t2 {
             values.step2[slot(&self.step2, r as usize, c as usize)] += v;
+        }
+        values.step2_complex = self.regularization.as_ref().map(|r| {
+            let mut z: Vec<C64> = values.step2.iter().map(|&v| C64::new(v, 0.0)).collect();
+            for (a, b, v) in r.step2_triplets() {
+                z[slot(&self.step2, a as usize, b as usize)] += v;
+            }
+            z
+        });
+        values
+    }
+
+    /// Both matrices for a pin set: the edge terms (re-weighted when some edges are stiffer),
+    /// the pins' position rows (weight `w`), their rotation rows in step 1, and identity rows
+    /// for the vertices not solved.
+    pub(crate) fn values_for(&self, pins: &PinSet, w: f64) -> Values {
+        let mut values = match &pins.multipliers {
+            None => self.edge_values(),
+            Some(m) => self.weighted_edge_values(m),
+        };
+        for (_, row) in &pins.positions {
+            values.add_pin_row(self, row, w * w);
+        }
+        for r in &pins.rotations {
+            for &k in &r.edges {
+                values.add_rotation_row(self, k, rotation_row_weight(self, k, w));
+            }
+        }
+        for (v, m) in pins.motion.iter().enumerate() {
+            if *m != Motion::Solve {
+                values.set_identity(self, v);
+            }
         }
         values
     }
@@ -133,6 +169,20 @@ impl Values {
                     if let Some(z) = &mut self.step2_complex {
                         z[k] += value;
                     }
+                }
+            }
+        }
+    }
+
+    /// Adds `ρ²·fitᴴ fit` for a rotation row `ρ (t_k(z') − τ)` on edge `k` to step 1
+    /// ([`super::pin_set`]).
+    pub(crate) fn add_rotation_row(&mut self, system: &System, k: u32, rho2: f64) {
+        let s = &system.stencils[k as usize];
+        for p in 0..s.len {
+            for q in 0..s.len {
+                let (r, c) = (s.verts[p] as usize, s.verts[q] as usize);
+                if r <= c {
+                    self.step1[slot(&system.step1, r, c)] += s.fit[p].conj() * s.fit[q] * rho2;
                 }
             }
         }

@@ -3,12 +3,17 @@
 //! ([`super::step2`]), with both numeric factorisations made at compilation (section 6) and
 //! every buffer an update needs. An update allocates and factorises nothing, and its result
 //! depends on the targets alone ([conventions](crate::conventions) 6).
+//!
+//! Pins that hold a rotation ([`super::pin_set`]) add rows to step 1, hold their edges'
+//! rotation in step 2 and scale the rest edges around them; stiffer edges (starch, discs)
+//! weigh more in both steps. Without either, the plain path is the paper's, bit for bit.
 
 use num_complex::Complex64 as C64;
 
-use super::pins::PinRow;
-use super::rotation::{add_rotated_edges, add_rotated_edges_keeping};
-use super::step1::{Step1, Step1Form};
+use super::pin_set::PinSet;
+use super::pins::{PinRow, Rotation};
+use super::rotation::{add_rotated_edges, add_rotated_edges_keeping, add_similar_edges, fit_rotations};
+use super::step1::{Source, Step1, Step1Form};
 use super::step2::{add_pin_targets, Step2};
 use super::system::{System, Values};
 use crate::error::Result;
@@ -17,12 +22,33 @@ use crate::solver::{Factor, Pair, Workspace};
 /// Both factorisations of one pin set and the update's buffers.
 #[derive(Debug)]
 pub(crate) struct TwoStep {
+    /// The position rows and the pin each belongs to.
     rows: Vec<PinRow>,
+    row_pins: Vec<usize>,
+    /// The rotation pins, in the order of their step-1 sources.
+    rotation_pins: Vec<usize>,
     w2: f64,
     step1: Step1,
     step2: Step2Form,
     z1: Vec<C64>,
     xy: Vec<Pair>,
+    coefficients: Vec<C64>,
+    row_targets: Vec<[f64; 2]>,
+    general: Option<General>,
+}
+
+/// What the general path (rotation pins, unequal stiffness) needs per update.
+#[derive(Debug)]
+struct General {
+    /// Each edge's rotation and scale `σ_k R_k` for step 2.
+    similarities: Vec<C64>,
+    /// Each edge's energy multiplier.
+    multipliers: Vec<f64>,
+    /// The edges whose rotation a pin holds, with the pin.
+    held: Vec<(u32, usize)>,
+    /// Each vertex's log-scale.
+    log_scales: Vec<f64>,
+    pins: PinSet,
 }
 
 /// Step 2 as the paper has it (real, x and y apart), or regularised (complex: the
@@ -33,7 +59,7 @@ enum Step2Form {
     Regularized {
         factor: Factor<C64>,
         work: Workspace<C64>,
-        /// Each edge's rotation `R_k`, fitted between the steps.
+        /// Each edge's rotation `R_k` (and scale), fitted between the steps.
         rotations: Vec<C64>,
         z: Vec<C64>,
     },
@@ -41,62 +67,129 @@ enum Step2Form {
 
 impl TwoStep {
     /// Factorises both normal matrices, whose `values` already hold the edge terms, the pin
-    /// rows `rows` (weight `w`) and identity rows for the vertices not solved.
+    /// rows (weight `w`), the rotation rows and identity rows for the vertices not solved.
     pub(crate) fn new(
         system: &System,
         values: &Values,
-        rows: Vec<PinRow>,
+        pins: &PinSet,
         w: f64,
         form: Step1Form,
     ) -> Result<TwoStep> {
         let w2 = w * w;
+        let rows: Vec<PinRow> = pins.positions.iter().map(|(_, r)| *r).collect();
+        let row_pins: Vec<usize> = pins.positions.iter().map(|(k, _)| *k).collect();
+        let mut sources: Vec<Source> = rows.iter().copied().map(Source::Position).collect();
+        for r in &pins.rotations {
+            sources.push(Source::Rotation(
+                r.edges.iter().map(|&k| (k, rotation_row_weight(system, k, w))).collect(),
+            ));
+        }
+        let rotation_pins = pins.rotations.iter().map(|r| r.pin).collect();
         let factor1 = Factor::new(&system.step1, &values.step1)?;
-        let step1 = Step1::new(system, factor1, &rows, w2, form);
+        let n_sources = sources.len();
+        let step1 = Step1::new(system, factor1, sources, w2, form);
+        let edges = system.edges.len();
         let step2 = match &values.step2_complex {
             None => Step2Form::Real(Step2::new(system, Factor::new(&system.step2, &values.step2)?)),
             Some(z) => Step2Form::Regularized {
                 factor: Factor::new(&system.step2, z)?,
                 work: Workspace::new(&system.step2),
-                rotations: vec![C64::new(1.0, 0.0); system.edges.len()],
+                rotations: vec![C64::new(1.0, 0.0); edges],
                 z: vec![C64::new(0.0, 0.0); system.n],
             },
         };
+        let general = (!pins.plain()).then(|| General {
+            similarities: vec![C64::new(1.0, 0.0); edges],
+            multipliers: pins.multipliers.clone().unwrap_or_else(|| vec![1.0; edges]),
+            held: pins.rotations.iter().flat_map(|r| r.edges.iter().map(move |&k| (k, r.pin))).collect(),
+            log_scales: vec![0.0; system.n],
+            pins: pins.clone(),
+        });
         let n = system.n;
-        Ok(TwoStep { rows, w2, step1, step2, z1: vec![C64::new(0.0, 0.0); n], xy: vec![Pair::default(); n] })
+        Ok(TwoStep {
+            row_targets: vec![[0.0; 2]; rows.len()],
+            rows,
+            row_pins,
+            rotation_pins,
+            w2,
+            step1,
+            step2,
+            z1: vec![C64::new(0.0, 0.0); n],
+            xy: vec![Pair::default(); n],
+            coefficients: vec![C64::new(0.0, 0.0); n_sources],
+            general,
+        })
     }
 
-    /// Both steps for `targets` (one per pin); writes every vertex's solved position into
-    /// `positions` (the caller overwrites the vertices it does not solve).
+    /// Both steps for `targets` and `rotations` (one each per pin); writes every vertex's
+    /// solved position into `positions` (the caller overwrites the vertices it does not
+    /// solve).
     ///
     /// Both steps are translation-equivariant, so they solve for the targets minus their
     /// centroid and add it back: round-off then does not grow with the distance of the
     /// shape from the origin.
-    pub(crate) fn solve(&mut self, system: &System, targets: &[[f64; 2]], positions: &mut [[f64; 2]]) {
-        let mut centre = [0.0; 2];
-        for t in targets {
-            centre[0] += t[0] / targets.len() as f64;
-            centre[1] += t[1] / targets.len() as f64;
+    pub(crate) fn solve(
+        &mut self,
+        system: &System,
+        targets: &[[f64; 2]],
+        rotations: &[Rotation],
+        positions: &mut [[f64; 2]],
+    ) {
+        for (t, &k) in self.row_targets.iter_mut().zip(&self.row_pins) {
+            *t = targets[k];
         }
-        self.step1.solve(system, &self.rows, self.w2, targets, centre, &mut self.z1);
+        let rt = &self.row_targets;
+        let mut centre = [0.0; 2];
+        for t in rt {
+            centre[0] += t[0] / rt.len() as f64;
+            centre[1] += t[1] / rt.len() as f64;
+        }
+        for (c, t) in self.coefficients.iter_mut().zip(rt) {
+            *c = C64::new(t[0] - centre[0], t[1] - centre[1]);
+        }
+        for (c, &p) in self.coefficients[rt.len()..].iter_mut().zip(&self.rotation_pins) {
+            *c = rotations[p].complex();
+        }
+        self.step1.solve(system, self.w2, &self.coefficients, &mut self.z1);
         // The rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
         self.xy.fill(Pair::default());
+        if let Some(g) = &mut self.general {
+            // Fitted rotations, those the pins hold, the scales; then the edges.
+            fit_rotations(&system.edges, &self.z1, &mut g.similarities);
+            for &(k, p) in &g.held {
+                g.similarities[k as usize] = C64::from_polar(1.0, rotations[p].angle);
+            }
+            g.pins.log_scales(rotations, &mut g.log_scales);
+            if g.log_scales.iter().any(|&l| l != 0.0) {
+                for (s, e) in g.similarities.iter_mut().zip(&system.edges) {
+                    let (i, j) = (e.verts[0] as usize, e.verts[1] as usize);
+                    *s *= (0.5 * (g.log_scales[i] + g.log_scales[j])).exp();
+                }
+            }
+            add_similar_edges(&system.edges, &g.similarities, &g.multipliers, &mut self.xy);
+        }
         match &mut self.step2 {
             Step2Form::Real(step2) => {
-                add_rotated_edges(&system.edges, &self.z1, &mut self.xy);
-                add_pin_targets(&self.rows, self.w2, targets, centre, &mut self.xy);
+                if self.general.is_none() {
+                    add_rotated_edges(&system.edges, &self.z1, &mut self.xy);
+                }
+                add_pin_targets(&self.rows, self.w2, rt, centre, &mut self.xy);
                 step2.solve(system, &mut self.xy);
                 for (p, q) in positions.iter_mut().zip(&self.xy) {
                     *p = [q.0[0] + centre[0], q.0[1] + centre[1]];
                 }
             }
-            Step2Form::Regularized { factor, work, rotations, z } => {
-                add_rotated_edges_keeping(&system.edges, &self.z1, &mut self.xy, rotations);
-                add_pin_targets(&self.rows, self.w2, targets, centre, &mut self.xy);
+            Step2Form::Regularized { factor, work, rotations: fitted, z } => {
+                match &self.general {
+                    None => add_rotated_edges_keeping(&system.edges, &self.z1, &mut self.xy, fitted),
+                    Some(g) => fitted.copy_from_slice(&g.similarities),
+                }
+                add_pin_targets(&self.rows, self.w2, rt, centre, &mut self.xy);
                 for (z, q) in z.iter_mut().zip(&self.xy) {
                     *z = C64::new(q.0[0], q.0[1]);
                 }
                 if let Some(r) = &system.regularization {
-                    r.add_rhs(rotations, z);
+                    r.add_rhs(fitted, z);
                 }
                 factor.solve_in_place(&system.step2, z, work);
                 for (p, q) in positions.iter_mut().zip(z.iter()) {
@@ -107,8 +200,16 @@ impl TwoStep {
     }
 
     /// Step 1's solution of the last [`TwoStep::solve`], relative to its targets' centroid.
-    #[allow(dead_code)] // the methods of issue 10 start from it
+    #[allow(dead_code)] // read by the regularisation's tests
     pub(crate) fn step1_solution(&self) -> &[C64] {
         &self.z1
     }
+}
+
+/// `ρ_k² = (w ω_k |e_k|)²`: the weight of a rotation row on edge `k`
+/// ([`super::pin_set`]).
+pub(crate) fn rotation_row_weight(system: &System, k: u32, w: f64) -> f64 {
+    let s = &system.stencils[k as usize];
+    let rho = w * s.weight * s.edge.norm();
+    rho * rho
 }

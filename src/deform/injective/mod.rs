@@ -4,8 +4,8 @@
 //! Three parts make the guarantee, whatever search direction is used:
 //!
 //! 1. a flip-free start: the previous result (warm start), the rest shape at first;
-//! 2. an energy that grows without bound as a triangle collapses: the symmetric Dirichlet
-//!    distortion ([`energy`]);
+//! 2. an energy that grows without bound as a triangle collapses: the as-rigid-as-possible
+//!    distortion with a small symmetric Dirichlet barrier ([`energy`]);
 //! 3. a step that never crosses a zero area: the largest step before any triangle inverts,
 //!    times 0.8 (Smith and Schaefer 2015, [`max_step`]), then Armijo backtracking on an
 //!    energy that is `+∞` at any non-positive area.
@@ -24,7 +24,9 @@
 //! Departures from the research notes' prototype: components with fewer than two pins
 //! move as [conventions](crate::conventions) 8 says (exact rigid motions, which are
 //! injective); the pins' rows are the two-step method's own, so `handleWeight` means the
-//! same for every method.
+//! same for every method; the energy is ARAP's with a barrier, not the symmetric Dirichlet
+//! energy ([`energy`] says why); an update whose targets moved makes one Newton iteration
+//! with conjugate gradients to the forcing term, not two with a fixed count.
 
 pub(crate) mod energy;
 pub(crate) mod max_step;
@@ -36,7 +38,8 @@ use pcg::{axpy, dot, Operator, Pcg, Stop};
 
 use super::clock::Budget;
 use super::components::Motion;
-use super::pins::PinRow;
+use super::pin_set::PinSet;
+use super::pins::{PinRow, Rotation};
 use super::step2::Step2;
 use super::system::System;
 use crate::mesh::Mesh;
@@ -69,18 +72,24 @@ pub struct Report {
 /// The largest forcing term of the inexact Newton steps; it shrinks as the iteration
 /// converges (see [`forcing`]).
 const FORCING: f64 = 0.1;
-/// The most conjugate-gradient steps per Newton step.
+/// The most conjugate-gradient steps per Newton step. A smaller cap while the targets move
+/// (6 or 12 were tried) makes each step closer to a preconditioned gradient step, which
+/// the largest flip-free step then cuts to a few percent: the pins fall behind and
+/// rarely catch up (the research notes' "jam"); on the drag suite a cap of 12 left 1–4
+/// cases lagging more than 1% of the diagonal after the 8 held updates, 40 none of the
+/// coarse ones.
 const CG_CAP: usize = 40;
-/// The most conjugate-gradient steps per Newton step of an update whose targets moved.
-const MOVE_CG_CAP: usize = 6;
 /// The most Newton iterations per update with the same targets as the last one (idle
 /// frames: the budget usually stops it first).
 const NEWTON_CAP: usize = 64;
 
-/// The most Newton iterations of an update whose targets moved: one that moves the pins
-/// and one that relaxes the shape around them. The relaxation continues at the next update,
-/// so a drag costs about the same every frame, and idle frames converge.
-const MOVE_NEWTON_CAP: usize = 2;
+/// The most Newton iterations of an update whose targets moved: one. Its conjugate
+/// gradients run to the forcing term (at most [`CG_CAP`]), so it moves the pins and relaxes
+/// the shape around them at once; the relaxation continues at the next update, so a drag
+/// costs about the same every frame, and idle frames converge. On the drag suite a second
+/// iteration cost 1.4–1.8× the back-substitutions per frame and did not lower the lag after
+/// the held updates.
+const MOVE_NEWTON_CAP: usize = 1;
 /// Armijo's sufficient-decrease constant.
 const ARMIJO: f64 = 1e-4;
 /// The most halvings of a step.
@@ -119,9 +128,13 @@ fn forcing(rz: f64, scale: f64, floor: f64) -> f64 {
 #[derive(Debug)]
 pub(crate) struct Injective {
     elements: Elements,
-    rows: Vec<PinRow>,
-    /// Whether each pin's row is part of the energy (its component is solved).
-    active: Vec<bool>,
+    /// The position rows in the energy (solved components), with their pins.
+    rows: Vec<(usize, PinRow)>,
+    /// The rotation pins' held triangles: `(pin, element, w² a_t)`: the energy
+    /// `w² a_t |F − R(θ)|²` (`F` against the scaled rest triangle).
+    held: Vec<(usize, u32, f64)>,
+    pins: PinSet,
+    log_scales: Vec<f64>,
     w2: f64,
     step2: Step2,
     /// `μ Σ a_t`: the energy's scale.
@@ -140,8 +153,9 @@ pub(crate) struct Injective {
     /// pin the preconditioner is weak, and an unfinished step makes little progress),
     /// lowered tenfold when they reach it in a few steps (then Newton converges fast).
     floor: f64,
-    /// The targets `energy` and `grad` were computed for.
+    /// The targets and rotations `energy` and `grad` were computed for.
     targets: Vec<[f64; 2]>,
+    rotations: Vec<Rotation>,
     fresh: bool,
     converged: bool,
 }
@@ -153,20 +167,35 @@ impl Injective {
     pub(crate) fn new(
         system: &System,
         mesh: &Mesh,
-        motion: &[Motion],
-        rows: Vec<PinRow>,
+        pins: &PinSet,
         w: f64,
         step2: Step2,
         start: &[[f64; 2]],
     ) -> Injective {
         let n = system.n;
         let rest = mesh.vertices();
+        let motion = &pins.motion;
+        // Each triangle's stiffness: the mean of its edges' multipliers (starch, discs).
+        let edge_index = |a: u32, b: u32| {
+            let key = (a.min(b), a.max(b));
+            mesh.edges().binary_search_by(|e| (e.i, e.j).cmp(&key)).unwrap_or(0)
+        };
+        let stiffness = |tri: &[u32; 3]| match &pins.multipliers {
+            None => 1.0,
+            Some(m) => {
+                (m[edge_index(tri[0], tri[1])]
+                    + m[edge_index(tri[1], tri[2])]
+                    + m[edge_index(tri[2], tri[0])])
+                    / 3.0
+            }
+        };
+        let mut element_of = vec![u32::MAX; mesh.triangles().len()];
         // μ = Σ ω²|e|² / (8 Σ a): the Hessian at rest matches step 2's edge terms.
         let edge_energy: f64 = system.stencils.iter().map(|s| s.weight * s.weight * s.edge.norm_sqr()).sum();
         let mut solved_area = 0.0;
         let mut all_area = 0.0;
         let mut raw = Vec::with_capacity(mesh.triangles().len());
-        for tri in mesh.triangles() {
+        for (t, tri) in mesh.triangles().iter().enumerate() {
             let [a, b, c] = tri.map(|v| rest[v as usize]);
             let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
             let det = e1[0] * e2[1] - e1[1] * e2[0];
@@ -174,13 +203,28 @@ impl Injective {
             if motion[tri[0] as usize] == Motion::Solve {
                 solved_area += 0.5 * det;
                 let inv = [e2[1] / det, -e2[0] / det, -e1[1] / det, e1[0] / det];
-                raw.push((*tri, inv, 0.5 * det));
+                element_of[t] = raw.len() as u32;
+                raw.push((*tri, inv, 0.5 * det, stiffness(tri)));
             }
         }
-        let mu = edge_energy / (8.0 * all_area);
-        let elements = Elements::new(raw.into_iter().map(|(tri, inv, area)| (tri, inv, mu * area)).collect());
-        let active = rows.iter().map(|r| motion[r.first_vertex() as usize] == Motion::Solve).collect();
-        let rows_len = rows.len();
+        let mu = edge_energy / ((2.0 + 8.0 * energy::BARRIER) * all_area);
+        let w2 = w * w;
+        let held = pins
+            .rotations
+            .iter()
+            .flat_map(|r| r.triangles.iter().map(move |&t| (r.pin, t)))
+            .filter(|&(_, t)| element_of[t as usize] != u32::MAX)
+            .map(|(pin, t)| (pin, element_of[t as usize], w2 * raw[element_of[t as usize] as usize].2))
+            .collect();
+        let elements =
+            Elements::new(raw.into_iter().map(|(tri, inv, area, m)| (tri, inv, mu * area * m)).collect());
+        let rows: Vec<(usize, PinRow)> = pins
+            .positions
+            .iter()
+            .filter(|(_, r)| motion[r.first_vertex() as usize] == Motion::Solve)
+            .copied()
+            .collect();
+        let rows_len = pins.pins.len();
         let mut x: Vec<Pair> = start.iter().map(|&p| Pair(p)).collect();
         // Each solved component starts from `start` only if it is injective there.
         if elements.smallest_det(&x) <= 0.0 || !x.iter().all(|p| p.0[0].is_finite() && p.0[1].is_finite()) {
@@ -189,8 +233,10 @@ impl Injective {
         Injective {
             elements,
             rows,
-            active,
-            w2: w * w,
+            held,
+            pins: pins.clone(),
+            log_scales: vec![0.0; n],
+            w2,
             step2,
             scale: (mu * solved_area).max(f64::MIN_POSITIVE),
             settled: SETTLED * mesh.diameter(),
@@ -203,6 +249,7 @@ impl Injective {
             energy: f64::NAN,
             floor: FLOOR_RANGE.0,
             targets: Vec::with_capacity(rows_len),
+            rotations: Vec::with_capacity(rows_len),
             fresh: false,
             converged: false,
         }
@@ -222,11 +269,19 @@ impl Injective {
         self.converged = false;
     }
 
-    /// The pins' part of the energy, `Σ_h w² |B_h x − c_h|²`, adding its gradient
-    /// `2 w² Bᵀ(Bx − c)` to `grad` when given.
-    fn pins(&self, x: &[Pair], targets: &[[f64; 2]], mut grad: Option<&mut [Pair]>) -> f64 {
+    /// The pins' part of the energy: `Σ_h w² |B_h x − c_h|²` over the position rows and
+    /// `Σ w² a_t |F_t − R(θ)|²` over the rotation pins' triangles, adding its gradient to
+    /// `grad` when given.
+    fn pins(
+        &self,
+        x: &[Pair],
+        targets: &[[f64; 2]],
+        rotations: &[Rotation],
+        mut grad: Option<&mut [Pair]>,
+    ) -> f64 {
         let mut sum = 0.0;
-        for ((row, t), _) in self.rows.iter().zip(targets).zip(&self.active).filter(|(_, &a)| a) {
+        for &(k, row) in &self.rows {
+            let t = targets[k];
             let mut p = [0.0; 2];
             for (v, weight) in row.terms() {
                 p[0] += weight * x[v as usize].0[0];
@@ -241,13 +296,23 @@ impl Injective {
                 }
             }
         }
+        for &(k, t, weight) in &self.held {
+            let f = self.elements.deformation_of(t as usize, x);
+            let (c, s) = (rotations[k].angle.cos(), rotations[k].angle.sin());
+            let d = [f[0] - c, f[1] + s, f[2] - s, f[3] - c];
+            sum += weight * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[3] * d[3]);
+            if let Some(g) = grad.as_deref_mut() {
+                self.elements.scatter_one(t as usize, d.map(|v| 2.0 * v), weight, g);
+            }
+        }
         sum
     }
 
-    /// The largest pin miss at the current positions.
+    /// The largest position pin's miss at the current positions.
     fn lag(&self, targets: &[[f64; 2]]) -> f64 {
         let mut lag = 0.0f64;
-        for ((row, t), _) in self.rows.iter().zip(targets).zip(&self.active).filter(|(_, &a)| a) {
+        for &(k, row) in &self.rows {
+            let t = targets[k];
             let mut p = [0.0; 2];
             for (v, weight) in row.terms() {
                 p[0] += weight * self.x[v as usize].0[0];
@@ -259,12 +324,12 @@ impl Injective {
     }
 
     /// Energy and gradient at the current positions into `self.energy`, `self.grad`.
-    fn evaluate(&mut self, targets: &[[f64; 2]]) {
+    fn evaluate(&mut self, targets: &[[f64; 2]], rotations: &[Rotation]) {
         self.grad.fill(Pair::default());
         let d = self.elements.energy_gradient(&self.x, &mut self.grad);
         let pins = {
             let mut grad = std::mem::take(&mut self.grad);
-            let p = self.pins(&self.x, targets, Some(&mut grad));
+            let p = self.pins(&self.x, targets, rotations, Some(&mut grad));
             self.grad = grad;
             p
         };
@@ -273,13 +338,27 @@ impl Injective {
 
     /// Newton iterations towards the minimiser for `targets`, within `budget_ms`; writes
     /// nothing but the state (read it with [`Injective::positions`]).
-    pub(crate) fn solve(&mut self, system: &System, targets: &[[f64; 2]], budget_ms: f64) -> Report {
+    pub(crate) fn solve(
+        &mut self,
+        system: &System,
+        targets: &[[f64; 2]],
+        rotations: &[Rotation],
+        budget_ms: f64,
+    ) -> Report {
         let mut budget = Budget::new(budget_ms);
-        let moved = !self.fresh || self.targets.as_slice() != targets;
+        let moved =
+            !self.fresh || self.targets.as_slice() != targets || self.rotations.as_slice() != rotations;
         if moved {
+            if !self.pins.rotations.is_empty() {
+                // The pins' scales rescale the rest triangles.
+                self.pins.log_scales(rotations, &mut self.log_scales);
+                self.elements.set_scales(&self.log_scales);
+            }
             self.targets.clear();
             self.targets.extend_from_slice(targets);
-            self.evaluate(targets);
+            self.rotations.clear();
+            self.rotations.extend_from_slice(rotations);
+            self.evaluate(targets, rotations);
             self.fresh = true;
             self.converged = false;
         }
@@ -297,7 +376,7 @@ impl Injective {
             let mut op = Newton {
                 elements: &self.elements,
                 rows: &self.rows,
-                active: &self.active,
+                held: &self.held,
                 w2: self.w2,
                 step2: &mut self.step2,
                 system,
@@ -307,7 +386,7 @@ impl Injective {
                 &self.rhs,
                 &mut self.step,
                 |rz| (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| forcing(rz, scale, floor)),
-                if moved { MOVE_CG_CAP } else { CG_CAP },
+                CG_CAP,
                 &mut op,
             );
             report.solves += k + 1;
@@ -335,7 +414,7 @@ impl Injective {
             for _ in 0..BACKTRACKS {
                 self.trial.copy_from_slice(&self.x);
                 axpy(t, &self.step, &mut self.trial);
-                let e = self.elements.energy(&self.trial) + self.pins(&self.trial, targets, None);
+                let e = self.elements.energy(&self.trial) + self.pins(&self.trial, targets, rotations, None);
                 if e <= self.energy + ARMIJO * t * slope {
                     accepted = e < self.energy;
                     break;
@@ -349,7 +428,7 @@ impl Injective {
             }
             let largest = self.step.iter().map(|p| p.0[0].abs().max(p.0[1].abs())).fold(0.0, f64::max);
             std::mem::swap(&mut self.x, &mut self.trial);
-            self.evaluate(targets);
+            self.evaluate(targets, rotations);
             let _ = budget.lap();
             if t * largest <= self.settled {
                 self.converged = true;
@@ -369,8 +448,8 @@ impl Injective {
 /// preconditioner `M = 2 A2ᵀA2` (step 2's factor), and the budget.
 struct Newton<'a> {
     elements: &'a Elements,
-    rows: &'a [PinRow],
-    active: &'a [bool],
+    rows: &'a [(usize, PinRow)],
+    held: &'a [(usize, u32, f64)],
     w2: f64,
     step2: &'a mut Step2,
     system: &'a System,
@@ -381,7 +460,12 @@ impl Operator for Newton<'_> {
     fn hessian_times(&mut self, v: &[Pair], out: &mut [Pair]) {
         out.fill(Pair::default());
         self.elements.hessian_times(v, out);
-        pin_hessian_times(self.rows, self.active, self.w2, v, out);
+        pin_hessian_times(self.rows, self.w2, v, out);
+        for &(_, t, weight) in self.held {
+            // The held triangles' term is quadratic in F: its Hessian is 2 w² a_t.
+            let df = self.elements.deformation_of(t as usize, v);
+            self.elements.scatter_one(t as usize, df.map(|x| 2.0 * x), weight, out);
+        }
     }
 
     fn precondition(&mut self, r: &[Pair], out: &mut [Pair]) {
@@ -398,8 +482,8 @@ impl Operator for Newton<'_> {
 }
 
 /// Adds `2 w² BᵀB v` (the pins' Hessian) to `out`.
-fn pin_hessian_times(rows: &[PinRow], active: &[bool], w2: f64, v: &[Pair], out: &mut [Pair]) {
-    for (row, _) in rows.iter().zip(active).filter(|(_, &a)| a) {
+fn pin_hessian_times(rows: &[(usize, PinRow)], w2: f64, v: &[Pair], out: &mut [Pair]) {
+    for (_, row) in rows {
         let mut p = [0.0; 2];
         for (u, weight) in row.terms() {
             p[0] += weight * v[u as usize].0[0];
