@@ -184,14 +184,15 @@ fn regularization_is_scale_free_and_smooths() {
 }
 
 /// The injective method: no triangle with a non-positive area and no winding defect after
-/// any update of a drag that folds the two-step method, with a small budget; the pin
-/// catches up once the drag is held; reset returns to rest; a pin added mid-pose where the
-/// material is moves nothing.
+/// any update of a drag that folds the two-step method, with a small work cap (counted,
+/// not timed, so that the test does the same work in a debug build and on a loaded
+/// machine); the pin catches up once the drag is held; reset returns to rest; a pin added
+/// mid-pose where the material is moves nothing.
 #[test]
 fn injective_never_folds_and_catches_up() {
     let mesh = disc(12);
     let handles = [Handle::Point([-0.5, 0.0]), Handle::Point([0.5, 0.0])];
-    let options = Options { budget_ms: 4.0, ..Options::default() };
+    let options = Options { max_solves: Some(16), ..Options::default() };
     let rest = Rest::register(mesh.clone(), options).unwrap();
     let mut p = rest.compile(&handles).unwrap();
     let end = [1.7, 0.9];
@@ -225,7 +226,9 @@ fn injective_never_folds_and_catches_up() {
     assert_bits_eq(q.positions(), mesh.vertices(), "reset");
 }
 
-/// An update stops once its budget is spent, overshooting it by at most its longest step.
+/// An update stops once its budget is spent, overshooting it by at most its longest step
+/// (the report's own clock; how long an update takes is measured by the benchmarks, not
+/// asserted here).
 #[test]
 fn injective_respects_its_budget() {
     let mesh = disc(40); // about 5000 vertices
@@ -235,18 +238,39 @@ fn injective_respects_its_budget() {
         // A target held far away: every update has work left. The first (the targets moved)
         // makes one Newton iteration; the held ones iterate until the budget is spent.
         for k in 0..6 {
-            let t = std::time::Instant::now();
             p.update(&[[-0.5, 0.0], [2.5, 1.5]]).unwrap();
-            let elapsed = t.elapsed().as_secs_f64() * 1e3;
             let r = p.report();
             assert!(k == 0 || r.elapsed_ms > budget, "the drag must need more than the budget: {r:?}");
             assert!(r.elapsed_ms <= budget + r.longest_step_ms + 1e-9, "{budget} ms: {r:?}");
-            // Outside the iteration: the report, copying the positions.
-            assert!(
-                elapsed <= budget + r.longest_step_ms + 2.0,
-                "{budget} ms budget: took {elapsed} ms ({r:?})"
-            );
         }
+    }
+}
+
+/// A counted budget (`max_solves`) does the same work whatever the clock: two puppets give
+/// the same bits, and no update makes more back-substitutions than asked (plus the one
+/// that starts each Newton iteration).
+#[test]
+fn injective_counted_budget_is_reproducible() {
+    let mesh = disc(16);
+    let run = || {
+        let options = Options { max_solves: Some(7), budget_ms: 1e-6, ..Options::default() };
+        let rest = Rest::register(mesh.clone(), options).unwrap();
+        let mut p = rest.compile(&[Handle::Point([-0.5, 0.0]), Handle::Point([0.5, 0.0])]).unwrap();
+        let mut reports = Vec::new();
+        for f in 1..=12 {
+            let s = f.min(6) as f64 / 6.0;
+            p.update(&[[-0.5, 0.0], [0.5 + 1.5 * s, 1.2 * s]]).unwrap();
+            reports.push(p.report());
+        }
+        (p.positions().to_vec(), reports)
+    };
+    let (a, ra) = run();
+    let (b, rb) = run();
+    assert_bits_eq(&a, &b, "counted budget");
+    for (x, y) in ra.iter().zip(&rb) {
+        assert_eq!((x.iterations, x.solves, x.converged), (y.iterations, y.solves, y.converged));
+        assert!(x.iterations >= 1 || x.converged, "{x:?}");
+        assert!(x.solves <= 7 + x.iterations as usize, "{x:?}");
     }
 }
 
@@ -256,6 +280,7 @@ fn bad_options_are_named() {
     let bad = [
         ("budget_ms", Options { budget_ms: 0.0, ..Options::default() }),
         ("budget_ms", Options { budget_ms: f64::NAN, ..Options::default() }),
+        ("max_solves", Options { max_solves: Some(0), ..Options::default() }),
         ("regularization", Options { regularization: -1.0, ..Options::two_step() }),
         ("regularization", Options { regularization: f64::INFINITY, ..Options::two_step() }),
         ("regularization", Options { regularization: 1.0, ..Options::default() }),

@@ -36,12 +36,15 @@ fn clock() -> Option<fn() -> f64> {
 }
 
 /// A time budget from now: [`Budget::expired`] once `limit_ms` have passed. With no clock,
-/// every check counts as [`Budget::STEP_MS`] milliseconds of work instead.
+/// every check counts as [`Budget::STEP_MS`] milliseconds of work instead. With a work
+/// limit ([`Budget::with_work`]), it expires after that many checks whatever the clock
+/// says, so the work done (and so the result) is the same on every machine.
 #[derive(Debug)]
 pub(crate) struct Budget {
     clock: Option<fn() -> f64>,
     start: f64,
     limit: f64,
+    work: Option<u32>,
     checks: u32,
     longest: f64,
     last: f64,
@@ -55,7 +58,13 @@ impl Budget {
     pub(crate) fn new(limit_ms: f64) -> Budget {
         let clock = clock();
         let start = clock.map_or(0.0, |c| c());
-        Budget { clock, start, limit: limit_ms, checks: 0, longest: 0.0, last: 0.0 }
+        Budget { clock, start, limit: limit_ms, work: None, checks: 0, longest: 0.0, last: 0.0 }
+    }
+
+    /// Counts checks instead of reading the clock: expires once `checks` checks have passed
+    /// (the time is still measured, for the report). `None` keeps the time budget.
+    pub(crate) fn with_work(self, checks: Option<u32>) -> Budget {
+        Budget { work: checks, ..self }
     }
 
     /// Milliseconds spent so far.
@@ -69,7 +78,10 @@ impl Budget {
     /// Whether the budget is spent.
     pub(crate) fn expired(&mut self) -> bool {
         self.checks += 1;
-        self.elapsed() >= self.limit
+        match self.work {
+            Some(n) => self.checks > n,
+            None => self.elapsed() >= self.limit,
+        }
     }
 
     /// Marks the end of one iteration of the caller's (its length is the time since the

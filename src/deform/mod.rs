@@ -140,6 +140,13 @@ pub struct Options {
     /// The injective method's time budget per update, in milliseconds. Default
     /// [`DEFAULT_BUDGET_MS`].
     pub budget_ms: f64,
+    /// The injective method's work per update counted instead of timed: when set, an
+    /// update stops after this many back-substitutions of step 2's factor (about one per
+    /// conjugate-gradient step; the first Newton iteration always runs) and `budget_ms` is
+    /// not read, so the result is the same on every machine and at any load: for tests,
+    /// reproducible renders, and offline work where time does not matter. Default `None`.
+    /// Must lie in 1..=[`MAX_SOLVES`].
+    pub max_solves: Option<u32>,
     /// `λ ≥ 0`: the regularisation of Martinez Esturo et al., baked into the normal
     /// matrices of the two-step and nonlinear methods. Default 0 (none).
     pub regularization: f64,
@@ -150,6 +157,9 @@ pub const DEFAULT_ITERATIONS: u32 = 4;
 
 /// The most nonlinear iterations an update may make.
 pub const MAX_ITERATIONS: u32 = 1000;
+
+/// The most [`Options::max_solves`] an update may ask for.
+pub const MAX_SOLVES: u32 = 1_000_000;
 
 /// The default of [`Options::budget_ms`]: well inside a 60 fps frame together with the
 /// drawing.
@@ -165,6 +175,7 @@ impl Default for Options {
             preserve_area: false,
             term_weights: TermWeights::default(),
             budget_ms: DEFAULT_BUDGET_MS,
+            max_solves: None,
             regularization: 0.0,
         }
     }
@@ -210,6 +221,11 @@ pub(crate) fn check_options(options: &Options) -> Result<()> {
     let b = options.budget_ms;
     if !(b.is_finite() && b > 0.0) {
         return bad("budget_ms", b, "is not a finite positive number of milliseconds");
+    }
+    if let Some(n) = options.max_solves {
+        if !(1..=MAX_SOLVES).contains(&n) {
+            return bad("max_solves", n as f64, &format!("is not a whole number in 1..={MAX_SOLVES}"));
+        }
     }
     let l = options.regularization;
     if !(l.is_finite() && l >= 0.0) {

@@ -189,7 +189,13 @@ impl Pinned {
                 self.report = Report { converged: true, iterations, solves: 2 + solves, ..Report::default() };
             }
             Solver::Injective(injective) => {
-                self.report = injective.solve(&rest.system, targets, rotations, rest.options.budget_ms);
+                self.report = injective.solve(
+                    &rest.system,
+                    targets,
+                    rotations,
+                    rest.options.budget_ms,
+                    rest.options.max_solves,
+                );
                 for (p, q) in self.positions.iter_mut().zip(injective.positions()) {
                     *p = q;
                 }

@@ -336,7 +336,8 @@ impl Injective {
         self.energy = d + pins;
     }
 
-    /// Newton iterations towards the minimiser for `targets`, within `budget_ms`; writes
+    /// Newton iterations towards the minimiser for `targets`, within `budget_ms` (or, when
+    /// `max_solves` is set, within that many back-substitutions of step 2's factor); writes
     /// nothing but the state (read it with [`Injective::positions`]).
     pub(crate) fn solve(
         &mut self,
@@ -344,8 +345,9 @@ impl Injective {
         targets: &[[f64; 2]],
         rotations: &[Rotation],
         budget_ms: f64,
+        max_solves: Option<u32>,
     ) -> Report {
-        let mut budget = Budget::new(budget_ms);
+        let mut budget = Budget::new(budget_ms).with_work(max_solves);
         let moved =
             !self.fresh || self.targets.as_slice() != targets || self.rotations.as_slice() != rotations;
         if moved {
