@@ -112,13 +112,14 @@ impl Thrown {
 /// The core's option names (the fields of its options structs, as `Error::BadOption` and
 /// the `NoOpaquePixel` message name them) that JS spells otherwise; the others (`spacing`,
 /// `margin`, `simplify`, `pins`, `transform`, `background`, …) are the same on both sides.
-const OPTION_NAMES: [(&str, &str); 9] = [
+const OPTION_NAMES: [(&str, &str); 10] = [
     ("handle_weight", "handleWeight"),
     ("min_angle_deg", "minAngle"),
     ("max_vertices", "maxVertices"),
     ("alpha_threshold", "alphaThreshold"),
     ("min_area", "minArea"),
     ("budget_ms", "budgetMs"),
+    ("max_solves", "maxSolves"),
     ("laplacian", "termWeights.laplacian"),
     ("mean_value", "termWeights.meanValue"),
     ("edge_length", "termWeights.edgeLength"),

@@ -68,6 +68,11 @@ export interface RegisterOptions {
   /** `"injective"`: the time budget per update, in milliseconds (> 0); an update overshoots it by at
    *  most one conjugate-gradient step. Default 8. */
   budgetMs?: number;
+  /** `"injective"`: count the work per update instead of timing it: an update stops after this many
+   *  back-substitutions (about one per conjugate-gradient step; a whole number in [1, 1e6]) and
+   *  `budgetMs` is not read, so the result is the same on every machine and at any load (tests,
+   *  reproducible renders, offline work). Default: unset (the time budget decides). */
+  maxSolves?: number;
   /** `"two-step"` and `"nonlinear"`: λ ≥ 0, the regularisation of Martinez Esturo et al., which
    *  smooths the edges' residuals over the mesh: fewer folds and spikes near pins, at a larger
    *  factorisation (0, the default, is the paper's method). */
@@ -298,6 +303,7 @@ pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
             "preserveArea",
             "termWeights",
             "budgetMs",
+            "maxSolves",
             "regularization",
         ],
     )?;
@@ -331,6 +337,9 @@ pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
         t.edge_length = weights.number("edgeLength")?.unwrap_or(t.edge_length);
     }
     o.budget_ms = fields.number("budgetMs")?.unwrap_or(o.budget_ms);
+    if let Some(k) = fields.count("maxSolves")? {
+        o.max_solves = Some(u32::try_from(k).unwrap_or(u32::MAX));
+    }
     o.regularization = fields.number("regularization")?.unwrap_or(o.regularization);
     Ok(o)
 }

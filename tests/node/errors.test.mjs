@@ -158,7 +158,7 @@ code("bad-option", () => {
   throws(() => Mesh.fromImage(opaque(8, 8), 8, 8, { minArea: -1 }), "bad-option", { option: "minArea", value: -1 }, /^option minArea: -1 /);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { spacing: Infinity }), "bad-option", { option: "spacing", value: Infinity }, /^option spacing: Infinity /);
   // What only the binding sees: unknown keys, wrong types.
-  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight, method, iterations, preserveArea, termWeights, budgetMs, regularization\)$/);
+  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight, method, iterations, preserveArea, termWeights, budgetMs, maxSolves, regularization\)$/);
   throws(() => Puppet.register(v, t, { weights: "harmonic" }), "bad-option", { option: "weights", value: "harmonic" }, /^option weights: "harmonic" is not "uniform" or "cotangent"$/);
   throws(() => Puppet.register(v, t, { handleWeight: "500" }), "bad-option", { option: "handleWeight", value: "500" }, /^option handleWeight: expected a number, got string$/);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { maxVertices: 2.5 }), "bad-option", { option: "maxVertices", value: 2.5 }, /^option maxVertices: 2\.5 is not a whole number/);
@@ -169,7 +169,7 @@ code("bad-option", () => {
   throws(() => r.render(...args, { transform: [1, 0, 0, NaN, 0, 0] }), "bad-option", { option: "transform", value: NaN }, /^option transform: NaN \(item 3\) is not finite$/);
   throws(() => r.render(...args, { transform: [1, 0, 0, 1, 0, "x"] }), "bad-option", { option: "transform", value: "x", item: 5 }, /item 5 is not a number \("x"\)/);
   throws(() => r.render(...args, { background: [0, 0, 256, 0] }), "bad-option", { option: "background", value: 256, item: 2 }, /^option background: 256 \(item 2\) is not an integer from 0 to 255$/);
-  throws(() => r.render(...args, { backgroud: [0, 0, 0, 0] }), "bad-option", { option: "backgroud" }, /unknown option "backgroud" \(known: transform, background\)/);
+  throws(() => r.render(...args, { backgroud: [0, 0, 0, 0] }), "bad-option", { option: "backgroud" }, /unknown option "backgroud" \(known: transform, background, depth, overlays\)/);
   assert.equal(r.render(...args).length, 16);
   r.free();
 });

@@ -123,6 +123,21 @@ test("lag, converged, reset and a compile in mid-pose", () => {
   p.free();
 });
 
+test("maxSolves counts the work instead of timing it: two puppets give the same bits", () => {
+  const [v, t] = grid(12);
+  const run = () => {
+    const p = Puppet.register(v, t, { maxSolves: 5, budgetMs: 1e-9 });
+    p.compile(new Float64Array([0.5, 0.5, 11.5, 11.5]));
+    for (let f = 1; f <= 10; f++) p.update(new Float64Array([0.5, 0.5, 11.5 + f, 11.5 + f / 2]));
+    const out = Array.from(p.positions);
+    const q = p.quality();
+    p.free();
+    assert.equal(q.flipped + q.windingDefects, 0);
+    return out;
+  };
+  assert.deepEqual(run(), run());
+});
+
 test("bad method options each throw a named error and leave the puppet as it was", () => {
   const [v, t] = grid(3);
   const bad = [
@@ -130,6 +145,8 @@ test("bad method options each throw a named error and leave the puppet as it was
     [{ method: "two-step", regularization: -1 }, "regularization", -1, /^option regularization: -1 is not a finite number ≥ 0$/],
     [{ budgetMs: 0 }, "budgetMs", 0, /^option budgetMs: 0 is not a finite positive number of milliseconds$/],
     [{ budgetMs: -Infinity }, "budgetMs", -Infinity, /^option budgetMs: -Infinity /],
+    [{ maxSolves: 0 }, "maxSolves", 0, /^option maxSolves: 0 is not a whole number in 1\.\.=1000000$/],
+    [{ maxSolves: 2.5 }, "maxSolves", 2.5, /^option maxSolves: 2\.5 is not a whole number ≥ 0$/],
     [{ method: "nonlinear", iterations: 2.5 }, "iterations", 2.5, /^option iterations: 2\.5 is not a whole number ≥ 0$/],
     [{ method: "nonlinear", iterations: -1 }, "iterations", -1, /whole number/],
     [{ regularization: 1 }, "regularization", 1, /applies to the two-step and nonlinear methods only/],
