@@ -428,7 +428,7 @@ impl Error {
                 if *count == 1 { " is" } else { "s are" }
             ),
             Error::BadPose { index, pose_count } => {
-                format!("pose {index} does not exist (there are {pose_count} poses)")
+                format!("pose {index} does not exist ({})", there_are_poses(*pose_count))
             }
             Error::BadWeight { index, value, limit } => {
                 format!("weights: weight {index} is {}, not a finite number within ±{}", n(*value), n(*limit))
@@ -456,6 +456,16 @@ pub(crate) fn check_finite<T: Copy + Into<f64>, const D: usize>(
         }
     }
     Ok(())
+}
+
+/// How many poses a blender has, as [`Error::BadPose`] says it: `there are no poses`,
+/// `there is 1 pose`, `there are 3 poses`.
+pub(crate) fn there_are_poses(count: usize) -> String {
+    match count {
+        0 => "there are no poses".into(),
+        1 => "there is 1 pose".into(),
+        n => format!("there are {n} poses"),
+    }
 }
 
 /// Reinterprets a flat `[x0, y0, x1, y1, …]` slice as points, checking its length.

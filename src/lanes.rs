@@ -55,6 +55,13 @@ mod imp {
         pub(crate) fn neg(self) -> F2 {
             F2(f64x2_neg(self.0))
         }
+        /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
+        /// field written directly.
+        #[inline(always)]
+        pub(crate) fn exp2_int(self) -> F2 {
+            let k = i64x2_extend_low_i32x4(i32x4_trunc_sat_f64x2_zero(self.0));
+            F2(i64x2_shl(i64x2_add(k, i64x2_splat(1023)), 52))
+        }
     }
 }
 
@@ -108,6 +115,12 @@ mod imp {
         #[inline(always)]
         pub(crate) fn neg(self) -> F2 {
             F2([-self.0[0], -self.0[1]])
+        }
+        /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
+        /// field written directly.
+        #[inline(always)]
+        pub(crate) fn exp2_int(self) -> F2 {
+            F2(self.0.map(|k| f64::from_bits(((k as i64 + 1023) as u64) << 52)))
         }
     }
 }

@@ -27,6 +27,7 @@
 
 #![warn(missing_docs)]
 
+pub mod blend;
 pub mod conventions;
 pub mod deform;
 pub mod error;
@@ -46,6 +47,7 @@ mod topology;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
+pub use blend::{BlendOptions, Blender};
 pub use deform::{EdgeWeights, Handle, Options, Pin, PinKind, Pinned, Rest, Rotation, Target};
 pub use error::{Error, Result};
 pub use flatten::{flatten, FlattenOptions, Flattening, VertexPin};

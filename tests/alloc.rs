@@ -7,25 +7,25 @@ mod common;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use bunraku::deform::Method;
 use bunraku::{EdgeWeights, Handle, Options, Rest};
 use common::{inside_point_near, Grid, Lcg};
 
 /// Counts allocations (alloc, alloc_zeroed, realloc) made by a thread while its flag is set.
+/// The count is per thread too: the tests run in parallel, and one test's allocations
+/// (while it counts a compile, say) must not land in another's count.
 struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 
 thread_local! {
     static COUNTING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
 }
 
 fn note() {
-    // `try_with`: the thread-local may already be gone while a thread shuts down.
+    // `try_with`: the thread-locals may already be gone while a thread shuts down.
     if COUNTING.try_with(Cell::get).unwrap_or(false) {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        let _ = ALLOCATIONS.try_with(|a| a.set(a.get() + 1));
     }
 }
 
@@ -55,11 +55,11 @@ static GLOBAL: Counting = Counting;
 
 /// The number of allocations `f` makes on this thread.
 fn allocations<R>(f: impl FnOnce() -> R) -> (usize, R) {
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = ALLOCATIONS.with(Cell::get);
     COUNTING.with(|c| c.set(true));
     let r = f();
     COUNTING.with(|c| c.set(false));
-    (ALLOCATIONS.load(Ordering::Relaxed) - before, r)
+    (ALLOCATIONS.with(Cell::get) - before, r)
 }
 
 #[test]
@@ -109,5 +109,46 @@ fn update_does_not_allocate() {
         assert_eq!(count, 0, "{weights:?}: {count} allocations in {} updates", 2 * poses.len());
         // And the updates did something.
         assert!(common::max_dist(&out, &shape.vertices) > 1.0);
+    }
+}
+
+#[test]
+fn blend_into_does_not_allocate() {
+    use bunraku::blend::{BlendOptions, Blender};
+    let shape = Grid::new(30, 30).jitter(0.2, 3).shape();
+    let mesh = shape.mesh();
+    let n = shape.vertices.len();
+    for iterations in [0, 2] {
+        let (made, blender) =
+            allocations(|| Blender::from_mesh(mesh.clone(), BlendOptions { iterations }).unwrap());
+        assert!(made > 0, "making a blender allocates; the counter must see it");
+        let mut blender = blender;
+        for k in 0..5 {
+            let a = 0.1 * k as f64;
+            let pose: Vec<[f64; 2]> = shape
+                .vertices
+                .iter()
+                .map(|p| {
+                    let (s, c) = (a * p[0] / 30.0).sin_cos();
+                    [c * p[0] - s * p[1] + k as f64, s * p[0] + c * p[1]]
+                })
+                .collect();
+            blender.add_pose(&pose).unwrap();
+        }
+        let weights: Vec<Vec<f64>> =
+            vec![vec![1.0, 0.0, 0.0, 0.0, 0.0], vec![0.2, -0.5, 0.0, 1.5, 0.3], vec![0.0; 5], vec![0.1; 5]];
+        let mut out = vec![[0.0; 2]; n];
+        let mut sum = 0.0;
+        let (count, ()) = allocations(|| {
+            for w in &weights {
+                blender.blend_into(w, &mut out).unwrap();
+                sum += out[n / 2][0];
+                // A failed call allocates nothing either (its error holds no string).
+                assert!(blender.blend_into(&w[..4], &mut out).is_err());
+            }
+        });
+        assert!(sum.is_finite());
+        assert_eq!(count, 0, "iterations {iterations}: {count} allocations in {} blends", weights.len());
+        assert!(common::max_dist(&out, &shape.vertices) > 1.0, "the blends did something");
     }
 }

@@ -24,7 +24,7 @@ export type ErrorCode =
   | "folded-edge" | "unused-vertex" | "empty-mesh"
   | "handle-outside" | "bad-handle" | "coincident-handles" | "factorization-failed"
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
-  | "inconsistent-orientation" | "not-a-disc";
+  | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -33,7 +33,8 @@ export interface BunrakuError extends Error {
   /** The kind of error. */
   code: ErrorCode;
   /** `non-finite`, `too-large`: the index of the offending number in the flat typed array passed
-   *  (`[x0, y0, …]`); `handle-outside`, `bad-handle`: the handle (or pin). */
+   *  (`[x0, y0, …]`; of a blend's `weights`: the weight); `handle-outside`, `bad-handle`: the handle
+   *  (or pin); `bad-pose`: the pose index given. */
   index?: number;
   /** `non-finite`, `too-large`: the point (vertex, handle, target) the number belongs to. */
   item?: number;
@@ -76,6 +77,11 @@ export interface BunrakuError extends Error {
   hole?: number;
   /** `bad-obj`: the 1-based line (absent when the problem concerns the whole file). */
   line?: number;
+  /** `flipped-triangles`: how many triangles of the pose are flipped or collapsed (`triangle`: the
+   *  first). */
+  count?: number;
+  /** `bad-pose`: how many poses the blender has. */
+  poseCount?: number;
 }
 "#;
 
@@ -112,7 +118,7 @@ impl Thrown {
 /// The core's option names (the fields of its options structs, as `Error::BadOption` and
 /// the `NoOpaquePixel` message name them) that JS spells otherwise; the others (`spacing`,
 /// `margin`, `simplify`, `pins`, `transform`, `background`, …) are the same on both sides.
-const OPTION_NAMES: [(&str, &str); 10] = [
+const OPTION_NAMES: [(&str, &str); 11] = [
     ("handle_weight", "handleWeight"),
     ("min_angle_deg", "minAngle"),
     ("max_vertices", "maxVertices"),
@@ -123,6 +129,7 @@ const OPTION_NAMES: [(&str, &str); 10] = [
     ("laplacian", "termWeights.laplacian"),
     ("mean_value", "termWeights.meanValue"),
     ("edge_length", "termWeights.edgeLength"),
+    ("reference", "nearAngle"),
 ];
 
 /// The words of JS: options as the options objects spell them, numbers as
@@ -201,6 +208,16 @@ impl From<Error> for Thrown {
                 t.with("width", width).with("height", height)
             }
             Error::BadObj { line, .. } if line > 0 => t.with("line", line),
+            Error::FlippedTriangles { count, first } => t.with("count", count).with("triangle", first),
+            Error::BadPose { index, pose_count } => t.with("index", index).with("poseCount", pose_count),
+            Error::BadWeight { index, value, limit } => {
+                let t = t.with("index", index).with("value", value);
+                if value.is_finite() {
+                    t.with("limit", limit)
+                } else {
+                    t
+                }
+            }
             _ => t,
         }
     }
@@ -221,6 +238,15 @@ pub(crate) fn bad_option(option: &str, value: &JsValue, reason: &str) -> Thrown 
     Thrown::new("bad-option", &format!("option {option}: {reason}"))
         .with("option", option)
         .with("value", value.clone())
+}
+
+/// A pose index that is not one (negative, fractional, too large), worded as the core's
+/// [`Error::BadPose`]: `pose -1 does not exist (there are 2 poses)`.
+pub(crate) fn bad_pose_index(index: f64, pose_count: usize) -> Thrown {
+    let poses = crate::error::there_are_poses(pose_count);
+    Thrown::new("bad-pose", &format!("pose {} does not exist ({poses})", number(index)))
+        .with("index", index)
+        .with("poseCount", pose_count)
 }
 
 /// An option of the wrong type: `option handleWeight: expected a number, got string`.

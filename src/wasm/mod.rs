@@ -5,6 +5,7 @@
 //! | module | what |
 //! |---|---|
 //! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
+//! | `blend` | `Blender`: poses of one mesh blended by weights |
 //! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
 //! | `render` | `Renderer`: textured meshes into RGBA pixels |
 //! | `flatten` | `flatten`, `surfaceFromOBJ`; `Quality` and `Flattening` results |
@@ -22,13 +23,16 @@
 //! A failed call leaves every object as it was: inputs are read and checked before any
 //! state changes.
 
+mod blend;
 mod errors;
 mod flatten;
 mod mesh;
 mod options;
+mod pins;
 mod puppet;
 mod render;
 
+pub use blend::JsBlender;
 pub use errors::Thrown;
 pub use flatten::{flatten_surface, surface_from_obj};
 pub use mesh::JsMesh;

@@ -10,8 +10,10 @@
 use js_sys::{Array, Float32Array, Float64Array, Reflect};
 use wasm_bindgen::{JsCast, JsValue};
 
+use super::blend::pose_number;
 use super::errors::{bad_option, bad_type, describe, number, unknown_option, wrong_option_type, Thrown};
 use super::{read_exact, read_items, TypedArray};
+use crate::blend::{BlendOptions, Flipped, PoseOptions, Reference};
 use crate::deform::Method;
 use crate::flatten::{FlattenOptions, VertexPin};
 use crate::meshing::{ImageOptions, OutlineOptions};
@@ -125,6 +127,35 @@ export interface FlattenOptions {
   targets?: Float64Array;
 }
 
+/** Options of `Blender.register`. */
+export interface BlendOptions {
+  /** Rotation-invariant refinement steps after each blend (Kaji's `E_S` iterations: each takes every
+   *  triangle's current rotation and stitches again for it times the blended stretch), a whole number
+   *  from 0 to 100, each one more back-substitution. Default 0. */
+  iterations?: number;
+}
+
+/** What `Blender.addPose` does with a pose's flipped or collapsed triangles, whose stretch has no
+ *  logarithm: `"reject"` throws `flipped-triangles`; `"clamp"` blends them squashed to a thousandth
+ *  across their fold (`blender.flippedCount(i)` says how many; one-hot weights then give back a
+ *  pose close to, not equal to, the one added). Poses made with the `"injective"` method have none. */
+export type FlippedTriangles = "reject" | "clamp";
+
+/** Options of `Blender.addPose`. A triangle's rotation is known only up to whole turns: the
+ *  angles are unwrapped continuously over the mesh, then each connected part of the mesh takes the
+ *  whole number of turns that puts most of it nearest the rest (no turn), `nearAngle`, or pose
+ *  `nearPose`. */
+export interface PoseOptions {
+  /** Default `"reject"`. */
+  flipped?: FlippedTriangles;
+  /** Radians, counter-clockwise: a whole-shape turn of 200° is −160° from rest, but 200° near
+   *  `Math.PI`, and 400° near `2 * Math.PI`. */
+  nearAngle?: number;
+  /** An existing pose: the new one turns the least from it, triangle by triangle (poses recorded
+   *  one after another keep turns that add up past 180°). Not with `nearAngle`. */
+  nearPose?: number;
+}
+
 /** Options of `Renderer.render` and `Renderer.renderInto`. */
 export interface RenderOptions {
   /** `[a, b, c, d, e, f]` as in `CanvasRenderingContext2D.setTransform`: a position `(x, y)` lands on output
@@ -212,16 +243,15 @@ export interface Overlays {
   /** Shade the triangles by `RenderOptions.depth`: `true` for the default colours. */
   depth?: boolean | DepthOverlay;
 }
-
 "#;
 
 /// An options object whose keys have been checked; absent (`undefined` or `null`) reads as
 /// empty.
-struct Fields<'a>(Option<&'a JsValue>);
+pub(crate) struct Fields<'a>(Option<&'a JsValue>);
 
 impl<'a> Fields<'a> {
     /// Checks that `options` is absent or an object with no key outside `known`.
-    fn open(options: &'a JsValue, known: &[&str]) -> Result<Fields<'a>, Thrown> {
+    pub(crate) fn open(options: &'a JsValue, known: &[&str]) -> Result<Fields<'a>, Thrown> {
         if options.is_undefined() || options.is_null() {
             return Ok(Fields(None));
         }
@@ -239,7 +269,7 @@ impl<'a> Fields<'a> {
     }
 
     /// The value of `key`, `None` when absent (`undefined`).
-    fn get(&self, key: &str) -> Result<Option<JsValue>, Thrown> {
+    pub(crate) fn get(&self, key: &str) -> Result<Option<JsValue>, Thrown> {
         let Some(object) = self.0 else { return Ok(None) };
         let value = Reflect::get(object, &JsValue::from_str(key))
             .map_err(|_| bad_option(key, &JsValue::UNDEFINED, "could not be read (its getter threw)"))?;
@@ -247,12 +277,12 @@ impl<'a> Fields<'a> {
     }
 
     /// A number option.
-    fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
+    pub(crate) fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
         self.get(key)?.map(|v| v.as_f64().ok_or_else(|| wrong_option_type(key, "a number", &v))).transpose()
     }
 
     /// A count (`maxVertices`): a whole number, at least 0.
-    fn count(&self, key: &str) -> Result<Option<usize>, Thrown> {
+    pub(crate) fn count(&self, key: &str) -> Result<Option<usize>, Thrown> {
         let Some(x) = self.number(key)? else { return Ok(None) };
         // Written so that NaN and infinities fail (their fract() is NaN).
         if !(x >= 0.0 && x.fract() == 0.0) {
@@ -278,7 +308,7 @@ impl<'a> Fields<'a> {
     }
 
     /// A typed-array option.
-    fn typed<A: TypedArray>(&self, key: &str) -> Result<Option<A>, Thrown> {
+    pub(crate) fn typed<A: TypedArray>(&self, key: &str) -> Result<Option<A>, Thrown> {
         self.get(key)?.map(|v| v.dyn_into::<A>().map_err(|v| wrong_option_type(key, A::NAME, &v))).transpose()
     }
 }
@@ -351,6 +381,41 @@ pub(crate) fn method_name(method: Method) -> &'static str {
         Method::TwoStep => "two-step",
         Method::Nonlinear => "nonlinear",
     }
+}
+
+/// `Blender.register`'s options.
+pub(crate) fn blend_options(options: &JsValue) -> Result<BlendOptions, Thrown> {
+    let fields = Fields::open(options, &["iterations"])?;
+    let mut o = BlendOptions::default();
+    if let Some(k) = fields.count("iterations")? {
+        o.iterations = u32::try_from(k).unwrap_or(u32::MAX);
+    }
+    Ok(o)
+}
+
+/// `Blender.addPose`'s options, for a blender of `pose_count` poses.
+pub(crate) fn pose_options(options: &JsValue, pose_count: usize) -> Result<PoseOptions, Thrown> {
+    let fields = Fields::open(options, &["flipped", "nearAngle", "nearPose"])?;
+    let mut o = PoseOptions::default();
+    if let Some(v) = fields.get("flipped")? {
+        o.flipped = match v.as_string().as_deref() {
+            Some("reject") => Flipped::Reject,
+            Some("clamp") => Flipped::Clamp,
+            _ => {
+                let reason = format!("{} is not \"reject\" or \"clamp\"", describe(&v));
+                return Err(bad_option("flipped", &v, &reason));
+            }
+        };
+    }
+    match (fields.number("nearAngle")?, fields.number("nearPose")?) {
+        (None, None) => {}
+        (Some(a), None) => o.reference = Reference::Angle(a),
+        (None, Some(j)) => o.reference = Reference::Pose(pose_number(j, pose_count)?),
+        (Some(_), Some(j)) => {
+            return Err(bad_option("nearPose", &j.into(), "cannot be given with nearAngle"))
+        }
+    }
+    Ok(o)
 }
 
 /// `Mesh.fromOutline`'s options.

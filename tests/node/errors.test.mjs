@@ -5,7 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Mesh, Puppet, Renderer, flatten, surfaceFromOBJ } from "../../pkg/bunraku.js";
+import { initSync, Blender, Mesh, Puppet, Renderer, flatten, surfaceFromOBJ } from "../../pkg/bunraku.js";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -277,6 +277,24 @@ code("inconsistent-orientation", () => {
 code("not-a-disc", () => {
   const tetra = new Float64Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]);
   throws(() => flatten(tetra, new Uint32Array([0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2])), "not-a-disc", {}, /not a topological disc: it is closed/);
+});
+
+code("flipped-triangles", () => {
+  const blender = Blender.register(v, t);
+  const mirror = v.map((x, i) => (i % 2 === 0 ? -x : x));
+  throws(() => blender.addPose(mirror), "flipped-triangles", { count: 18, triangle: 0 }, /^positions: 18 triangles are flipped or collapsed \(the first: triangle 0\)/);
+  assert.equal(blender.poseCount, 0);
+  assert.equal(blender.addPose(mirror, { flipped: "clamp" }), 0);
+  blender.free();
+});
+
+code("bad-pose", () => {
+  const blender = Blender.register(v, t);
+  blender.addPose(v);
+  throws(() => blender.removePose(1), "bad-pose", { index: 1, poseCount: 1 }, /^pose 1 does not exist \(there is 1 pose\)$/);
+  throws(() => blender.addPose(v, { nearPose: -2 }), "bad-pose", { index: -2, poseCount: 1 });
+  assert.equal(blender.poseCount, 1);
+  blender.free();
 });
 
 test("every ErrorCode of the declarations is tested above (or cannot be triggered)", () => {

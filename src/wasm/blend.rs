@@ -1,0 +1,179 @@
+//! `Blender`: poses of one mesh blended by weights as rigidly as possible (Kaji's Blend_C
+//! with `E_T` stitching; [`crate::blend`]).
+
+use js_sys::{Float64Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+use super::errors::{bad_pose_index, bad_type};
+use super::options::{blend_options, pose_options};
+use super::{items, typed, Thrown, TypedArray};
+use crate::blend::Blender;
+use crate::Error;
+
+/// Poses of one rest mesh, blended by weights: rotations blend by their angles and
+/// stretches by their logarithms, so that half of a 120° turn is the 60° turn at full size
+/// (a linear blend of the vertices shrinks it to half), and weights outside [0, 1]
+/// extrapolate.
+///
+/// ```js
+/// const blender = Blender.register(mesh.vertices, mesh.triangles);
+/// blender.addPose(puppet.positions);            // pose 0
+/// blender.addPose(otherPositions);              // pose 1
+/// const out = new Float64Array(2 * mesh.vertexCount);
+/// blender.blendInto(new Float64Array([0.5, 0.5]), out);   // no allocation
+/// blender.free();
+/// ```
+#[wasm_bindgen(js_name = Blender)]
+pub struct JsBlender {
+    blender: Blender,
+    /// The weights of the last blend, kept so that a blend allocates nothing.
+    weights: Vec<f64>,
+    /// The positions of the last blend.
+    out: Vec<[f64; 2]>,
+}
+
+#[wasm_bindgen(js_class = Blender)]
+impl JsBlender {
+    /// Makes a blender for poses of the mesh `vertices` (`[x0, y0, x1, y1, …]`),
+    /// `triangles` (`[a0, b0, c0, …]`; clockwise triangles are reoriented): validates the
+    /// mesh and factorises the stitching matrix (the cotangent Laplacian) once. `options`:
+    /// `BlendOptions`. Throws a `BunrakuError` naming the offending vertex, triangle or
+    /// option.
+    pub fn register(
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] vertices: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "BlendOptions")] options: JsValue,
+    ) -> Result<JsBlender, Thrown> {
+        let options = blend_options(&options)?;
+        let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
+        let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
+        let blender = Blender::new(vertices, triangles, options)?;
+        let n = blender.mesh().vertices().len();
+        Ok(JsBlender { blender, weights: Vec::new(), out: vec![[0.0; 2]; n] })
+    }
+
+    /// Adds a pose, `[x0, y0, x1, y1, …]` one position per vertex (e.g. `puppet.positions`),
+    /// and returns its index: the place of its weight in `blend`'s weights. Each triangle's
+    /// map from rest is split into a rotation and a stretch, and the rotation angles are
+    /// unwrapped continuously over the mesh (so that turns past 180° blend the long way
+    /// round), towards `options.nearAngle` or `options.nearPose` when given. Throws
+    /// `bad-length`, `non-finite`, `too-large`, or `flipped-triangles` (with the count and
+    /// the first triangle; pass `{ flipped: "clamp" }` to blend such a pose anyway); the
+    /// blender is then unchanged.
+    #[wasm_bindgen(js_name = addPose)]
+    pub fn add_pose(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "PoseOptions")] options: JsValue,
+    ) -> Result<usize, Thrown> {
+        let options = pose_options(&options, self.blender.pose_count())?;
+        let array = typed::<Float64Array>("positions", &positions)?;
+        let (got, expected) = (array.len(), 2 * self.vertex_count());
+        if got != expected {
+            return Err(Error::CountMismatch { what: "positions", got, expected }.into());
+        }
+        let points = items::<Float64Array, 2>("positions", &positions)?;
+        let index = self.blender.add_pose_with(&points, options)?;
+        self.weights.resize(self.blender.pose_count(), 0.0);
+        Ok(index)
+    }
+
+    /// Removes pose `index`; the poses after it move down by one. Throws `bad-pose` for an
+    /// index that does not exist.
+    #[wasm_bindgen(js_name = removePose)]
+    pub fn remove_pose(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] index: JsValue,
+    ) -> Result<(), Thrown> {
+        let index = pose_index(&index, self.blender.pose_count())?;
+        self.blender.remove_pose(index)?;
+        self.weights.truncate(self.blender.pose_count());
+        Ok(())
+    }
+
+    /// The number of poses.
+    #[wasm_bindgen(getter, js_name = poseCount)]
+    pub fn pose_count(&self) -> usize {
+        self.blender.pose_count()
+    }
+
+    /// The number of vertices of the rest mesh.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.blender.mesh().vertices().len()
+    }
+
+    /// The number of triangles of the rest mesh.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> usize {
+        self.blender.mesh().triangles().len()
+    }
+
+    /// How many flipped or collapsed triangles of pose `index` were clamped (0 for a pose
+    /// added without `{ flipped: "clamp" }`). Throws `bad-pose`.
+    #[wasm_bindgen(js_name = flippedCount)]
+    pub fn flipped_count(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] index: JsValue,
+    ) -> Result<usize, Thrown> {
+        Ok(self.blender.flipped_count(pose_index(&index, self.blender.pose_count())?)?)
+    }
+
+    /// The blend of the poses with `weights` (a `Float64Array`, one weight per pose, any
+    /// numbers within ±1e6; the rest shape weighs `1 − Σ weights`), as new positions
+    /// `[x0, y0, …]`. All-zero weights give the rest shape, one-hot weights a pose
+    /// (position included); weights outside [0, 1] extrapolate. Throws `bad-length`,
+    /// `non-finite`, `too-large` (naming the weight); the blender is then unchanged.
+    pub fn blend(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] weights: JsValue,
+    ) -> Result<Float64Array, Thrown> {
+        self.solve(&weights)?;
+        Ok(Float64Array::from(self.out.as_flattened()))
+    }
+
+    /// Like `blend`, but writes the positions into `out` (a `Float64Array` of length
+    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame.
+    #[wasm_bindgen(js_name = blendInto)]
+    pub fn blend_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] weights: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+    ) -> Result<(), Thrown> {
+        let out = typed::<Float64Array>("out", &out)?;
+        let (got, expected) = (out.len(), 2 * self.vertex_count());
+        if got != expected {
+            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
+        }
+        self.solve(&weights)?;
+        out.copy_from(self.out.as_flattened());
+        Ok(())
+    }
+
+    /// Reads the weights into the blender's own buffer and blends into `self.out`.
+    fn solve(&mut self, weights: &JsValue) -> Result<(), Thrown> {
+        let array = typed::<Float64Array>("weights", weights)?;
+        let (got, expected) = (array.len(), self.blender.pose_count());
+        if got != expected {
+            return Err(Error::CountMismatch { what: "weights", got, expected }.into());
+        }
+        // One weight per pose (resized as poses come and go).
+        array.copy_to(&mut self.weights);
+        Ok(self.blender.blend_into(&self.weights, &mut self.out)?)
+    }
+}
+
+/// A pose index from JS: a whole number below `pose_count` ([`pose_number`]); `bad-type`
+/// for a value that is not a number.
+fn pose_index(value: &JsValue, pose_count: usize) -> Result<usize, Thrown> {
+    pose_number(value.as_f64().ok_or_else(|| bad_type("index", "a number", value))?, pose_count)
+}
+
+/// A number as a pose index: a whole number from 0 below `pose_count`, else `bad-pose`.
+pub(crate) fn pose_number(x: f64, pose_count: usize) -> Result<usize, Thrown> {
+    if x >= 0.0 && x.fract() == 0.0 && x < pose_count as f64 {
+        Ok(x as usize)
+    } else {
+        Err(bad_pose_index(x, pose_count))
+    }
+}
