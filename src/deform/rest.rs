@@ -110,6 +110,12 @@ impl Rest {
         triangle_depths(&self.0.mesh, self.0.graph(), &|p| self.locate(p), overlap)
     }
 
+    /// Checks starch regions as [`super::Pinned::set_starch`] does, without a pin set (a
+    /// caller that keeps starch for a later compile). Errors: those of `set_starch`.
+    pub fn check_starch(&self, starch: &[super::Starch]) -> Result<()> {
+        super::starch::edge_multipliers(&self.0.mesh, self.0.graph(), &|p| self.locate(p), starch).map(|_| ())
+    }
+
     /// [`Rest::compile_pins`] keeping a pose: the injective method starts from `positions`
     /// (one per vertex, e.g. the previous pin set's [`Pinned::positions`]) instead of the
     /// rest shape, so a pin added mid-pose does not make the shape jump when its first

@@ -198,7 +198,12 @@ impl From<Error> for Thrown {
                 t.with("index", handle).with("point", pair(point[0], point[1]))
             }
             Error::BadHandle { handle, .. } => t.with("index", handle),
-            Error::CoincidentHandles { first, second } => t.with("first", first).with("second", second),
+            Error::CoincidentHandles { first, second } | Error::OverlappingPins { first, second } => {
+                t.with("first", first).with("second", second)
+            }
+            Error::PointOutside { index, point, .. } => {
+                t.with("index", index).with("point", pair(point[0], point[1]))
+            }
             Error::ImageBufferLength { len, width, height } => t
                 .with("length", len)
                 .with("expected", width as f64 * height as f64 * 4.0)

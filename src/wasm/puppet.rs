@@ -1,28 +1,36 @@
 //! `Puppet`: register a rest shape once, compile a pin set once per set, update every
 //! frame (Igarashi & Igarashi 2009, section 6).
 
-use js_sys::{Float64Array, Uint32Array};
+use js_sys::{Array, Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::flatten::quality_object;
 use super::options::{method_name, register_options, weights_name};
+use super::pins::{kind_name, overlap, pins, read_rotations, starch};
 use super::{flat, items, read_exact, typed, Thrown, TypedArray};
-use crate::{Error, Handle, Mesh, Pin, Pinned, Rest};
+use crate::deform::Starch;
+use crate::{Error, Handle, Mesh, Pinned, Rest, Rotation};
 
 /// A shape to puppeteer: a registered rest mesh and, once compiled, a handle set.
 ///
 /// ```js
 /// const puppet = Puppet.register(vertices, triangles, { weights: "cotangent" });
-/// puppet.compile(new Float64Array([x0, y0, x1, y1, x2, y2]));
-/// const out = puppet.update(new Float64Array([...targets]));   // [x0, y0, x1, y1, …] per vertex
+/// puppet.compile(new Float64Array([x0, y0, x1, y1, x2, y2]), { kinds: ["position", "bend", "advanced"] });
+/// const out = puppet.update(targets, rotations);   // [x0, y0, x1, y1, …] per vertex
 /// puppet.free();
 /// ```
 #[wasm_bindgen]
 pub struct Puppet {
     rest: Rest,
     pinned: Option<Pinned>,
-    /// The targets of the last update, kept so that an update allocates nothing.
+    /// The targets and rotations of the last update, kept so that an update allocates
+    /// nothing.
     targets: Vec<[f64; 2]>,
+    rotations: Vec<Rotation>,
+    /// The starch set before any compile (once compiled, the pin set holds it).
+    starch: Vec<Starch>,
+    /// Each triangle's depth (`setOverlap`); zeros without overlap regions.
+    depths: Vec<f32>,
 }
 
 #[wasm_bindgen]
@@ -43,51 +51,164 @@ impl Puppet {
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
         let rest = Rest::register(Mesh::new(vertices, triangles)?, options)?;
-        Ok(Puppet { rest, pinned: None, targets: Vec::new() })
+        let depths = vec![0.0; rest.mesh().triangles().len()];
+        Ok(Puppet {
+            rest,
+            pinned: None,
+            targets: Vec::new(),
+            rotations: Vec::new(),
+            starch: Vec::new(),
+            depths,
+        })
     }
 
-    /// Compiles a handle set: `handles` is `[x0, y0, x1, y1, …]`, rest-space points anywhere
+    /// Compiles a pin set: `handles` is `[x0, y0, x1, y1, …]`, rest-space points anywhere
     /// on the shape (inside a triangle, on an edge or on a vertex), in the order the targets
-    /// will come in. Factorises both normal matrices once. Throws if a handle lies outside
-    /// the shape, is not finite, or coincides with another (the error names the handle);
-    /// the previous handle set then stays compiled.
+    /// will come in. `options.kinds` gives each pin's kind (`"position"`, the default;
+    /// `"bend"`: rotation and scale, its point following the mesh; `"advanced"`: position,
+    /// rotation and scale) and `options.radius` a radius in rest units (a number, or a
+    /// `Float64Array` per pin; default 0): such a pin holds the disc of the rest shape
+    /// within that distance along the mesh rigidly, not a point. Factorises the normal
+    /// matrices once. The pose and the starch are kept: a new pin starts where its rest
+    /// point now is, so nothing jumps. Throws if a handle lies outside the shape, is not
+    /// finite, or coincides with another (the error names the handle), or for a bad kind or
+    /// radius; the previous pin set then stays compiled.
     pub fn compile(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] handles: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "CompileOptions")] options: JsValue,
     ) -> Result<(), Thrown> {
         let points = items::<Float64Array, 2>("handles", &handles)?;
-        self.install(&points.into_iter().map(Handle::Point).collect::<Vec<_>>())
+        self.install(points.into_iter().map(Handle::Point).collect(), &options)
     }
 
-    /// Compiles a handle set of mesh vertices (indices into `vertices`), like `compile`.
+    /// Compiles a pin set of mesh vertices (indices into `vertices`), like `compile`.
     #[wasm_bindgen(js_name = compileVertices)]
     pub fn compile_vertices(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Uint32Array")] vertices: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "CompileOptions")] options: JsValue,
     ) -> Result<(), Thrown> {
         let vertices = typed::<Uint32Array>("vertices", &vertices)?.to_vec();
-        self.install(&vertices.into_iter().map(Handle::Vertex).collect::<Vec<_>>())
+        self.install(vertices.into_iter().map(Handle::Vertex).collect(), &options)
     }
 
-    fn install(&mut self, handles: &[Handle]) -> Result<(), Thrown> {
+    fn install(&mut self, handles: Vec<Handle>, options: &JsValue) -> Result<(), Thrown> {
+        let pins = pins(handles, options)?;
         // The new pin set starts from the current pose (the injective method's warm start):
         // a pin added mid-pose, first targeted where its rest point now is, moves nothing.
-        let pins: Vec<Pin> = handles.iter().copied().map(Pin::from).collect();
-        let pinned = self.rest.compile_pins_from(&pins, self.current())?;
-        self.targets = vec![[0.0; 2]; handles.len()];
+        let pinned = match &self.pinned {
+            Some(p) => p.recompile(&pins)?,
+            None => {
+                let mut p = self.rest.compile_pins_from(&pins, self.current())?;
+                if !self.starch.is_empty() {
+                    p.set_starch(&self.starch)?;
+                }
+                p
+            }
+        };
+        self.targets = vec![[0.0; 2]; pins.len()];
+        self.rotations = vec![Rotation::default(); pins.len()];
         self.pinned = Some(pinned);
         Ok(())
     }
 
-    /// Moves the handles to `targets` (`[x0, y0, …]`, same order as compiled) and returns
-    /// the deformed vertex positions `[x0, y0, x1, y1, …]` as a new `Float64Array`. Costs
-    /// a combination of per-handle solutions, a rotation fit per edge and one
-    /// back-substitution. Throws on a wrong type or length or a non-finite target.
+    /// Stiffens regions of the shape (After Effects' Starch pins): each region
+    /// `{ at: [x, y], amount, extent }` multiplies the stiffness of the edges within
+    /// `extent` of `at`, measured along the mesh, by `1 + 100 · amount` (amounts of
+    /// overlapping regions add up; negative ones cancel; the stiffness never falls below
+    /// 1/100). An empty list removes the starch. A numeric refactorisation (no
+    /// re-registration, the pose kept); the starch stays through later compiles. Throws
+    /// naming the region (`starch[2].extent`, or `point-outside` for a centre off the
+    /// shape); the starch is then as it was.
+    #[wasm_bindgen(js_name = setStarch)]
+    pub fn set_starch(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "StarchRegion[]")] regions: JsValue,
+    ) -> Result<(), Thrown> {
+        let regions = starch(&regions)?;
+        match &mut self.pinned {
+            Some(p) => p.set_starch(&regions)?,
+            None => self.rest.check_starch(&regions)?,
+        }
+        self.starch = regions;
+        Ok(())
+    }
+
+    /// Gives the triangles a depth (After Effects' Overlap pins): each region
+    /// `{ at: [x, y], depth, extent }` adds `depth` to the triangles within `extent` of `at`
+    /// along the mesh. Where the deformed mesh overlaps itself, the deeper part is drawn in
+    /// front: pass `triangleDepth` to the `Renderer` (`options.depth`) or to WebGL. An empty
+    /// list sets every depth to 0. Throws naming the region; the depths are then as they
+    /// were.
+    #[wasm_bindgen(js_name = setOverlap)]
+    pub fn set_overlap(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "OverlapRegion[]")] regions: JsValue,
+    ) -> Result<(), Thrown> {
+        let regions = overlap(&regions)?;
+        self.depths = self.rest.triangle_depths(&regions)?;
+        Ok(())
+    }
+
+    /// Each triangle's depth from `setOverlap` (0 without overlap regions): larger is drawn
+    /// in front where the deformed mesh overlaps itself. With no overlap, draw in triangle
+    /// order (each depth level is drawn in triangle order too).
+    #[wasm_bindgen(getter, js_name = triangleDepth)]
+    pub fn triangle_depth(&self) -> Float32Array {
+        Float32Array::from(&self.depths[..])
+    }
+
+    /// The compiled pins' kinds, in order.
+    #[wasm_bindgen(getter, unchecked_return_type = "PinKind[]")]
+    pub fn kinds(&self) -> Array {
+        let pins = self.pinned.as_ref().map_or(&[][..], |p| p.pins());
+        pins.iter().map(|p| JsValue::from_str(kind_name(p.kind))).collect()
+    }
+
+    /// The compiled pins' radii, in rest units.
+    #[wasm_bindgen(getter)]
+    pub fn radius(&self) -> Float64Array {
+        let pins = self.pinned.as_ref().map_or(&[][..], |p| p.pins());
+        Float64Array::from(&pins.iter().map(|p| p.radius).collect::<Vec<_>>()[..])
+    }
+
+    /// Where each pin's point is on the current positions, `[x0, y0, …]`: where the material
+    /// is. The injective method lets a pin lag behind its target rather than fold the
+    /// picture: draw the pin here, with a line to its target while `lag` is not 0.
+    #[wasm_bindgen(getter, js_name = pinPositions)]
+    pub fn pin_positions(&self) -> Float64Array {
+        let Some(p) = &self.pinned else { return Float64Array::new_with_length(0) };
+        let (triangles, positions) = (self.rest.mesh().triangles(), p.positions());
+        let points: Vec<[f64; 2]> = p
+            .locations()
+            .iter()
+            .map(|l| {
+                let t = triangles[l.triangle as usize];
+                let mut q = [0.0; 2];
+                for (&v, &w) in t.iter().zip(&l.weights) {
+                    q[0] += w * positions[v as usize][0];
+                    q[1] += w * positions[v as usize][1];
+                }
+                q
+            })
+            .collect();
+        flat(&points)
+    }
+
+    /// Moves the pins to `targets` (`[x0, y0, …]`, same order as compiled; ignored for bend
+    /// pins) and turns the bend and advanced pins by `rotations` (`[angle0, scale0, …]`:
+    /// the angle in radians, counter-clockwise, relative to rest, continuous over turns;
+    /// the scale 1 at rest; ignored for position pins; default `[0, 1]` for every pin), and
+    /// returns the deformed vertex positions `[x0, y0, x1, y1, …]` as a new `Float64Array`.
+    /// Throws on a wrong type or length, a non-finite number, or a scale outside
+    /// [1e-6, 1e6]; the pose is then as it was.
     pub fn update(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array")] rotations: JsValue,
     ) -> Result<Float64Array, Thrown> {
-        Ok(Float64Array::from(self.solve(&targets)?))
+        Ok(Float64Array::from(self.solve(&targets, &rotations)?))
     }
 
     /// Like `update`, but writes the positions into `out` (a `Float64Array` of length
@@ -97,23 +218,25 @@ impl Puppet {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array")] rotations: JsValue,
     ) -> Result<(), Thrown> {
         let out = typed::<Float64Array>("out", &out)?;
         let (got, expected) = (out.len(), 2 * self.vertex_count());
         if got != expected {
             return Err(Error::CountMismatch { what: "output length", got, expected }.into());
         }
-        out.copy_from(self.solve(&targets)?);
+        out.copy_from(self.solve(&targets, &rotations)?);
         Ok(())
     }
 
-    /// Reads the targets into the puppet's own buffer and solves; before any compile, the
-    /// rest shape (for no targets).
-    fn solve(&mut self, targets: &JsValue) -> Result<&[f64], Thrown> {
+    /// Reads the targets and rotations into the puppet's own buffers and solves; before any
+    /// compile, the rest shape (for no targets).
+    fn solve(&mut self, targets: &JsValue, rotations: &JsValue) -> Result<&[f64], Thrown> {
         read_exact("targets", typed::<Float64Array>("targets", targets)?, &mut self.targets)?;
+        read_rotations(rotations, &mut self.rotations)?;
         match &mut self.pinned {
             None => Ok(self.rest.mesh().vertices().as_flattened()),
-            Some(p) => Ok(p.update(&self.targets)?.as_flattened()),
+            Some(p) => Ok(p.update_with(&self.targets, &self.rotations)?.as_flattened()),
         }
     }
 
