@@ -8,10 +8,10 @@
 //
 // position.png: four position pins, the right hand raised. overlap.png: the left hand
 // dragged across the belly, the left arm given the larger depth (so drawn in front);
-// overlap-depth.png: the same with the depth shading (light in front, dark behind). starch.png: the wireframe and a starch region round the head.
-// bend.png and advanced.png need pin kinds and rotations in the core (puppet.compile(handles,
-// { kinds, radius }) and puppet.update(targets, rotations)); without them they are skipped,
-// with a line saying so.
+// overlap-depth.png: the same with the depth shading (light in front, dark behind).
+// starch.png: the wireframe and a starch region round the head (puppet.setStarch), the head
+// dragged sideways. bend.png: a bend pin on the right hand turned by 60°. advanced.png: an
+// advanced pin on the right hand, raised and turned by −45°.
 
 import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import { PNG } from "pngjs";
@@ -37,30 +37,6 @@ const LEFT_HAND = at(114 / 512, 230 / 512);
 const RIGHT_HAND = at(398 / 512, 230 / 512);
 const HIPS = at(256 / 512, 340 / 512);
 
-/** Where rest point `p` lies: a triangle and barycentric weights (the pin's material). */
-function locate([x, y]) {
-  for (let t = 0; t < triangles.length; t += 3) {
-    const [a, b, c] = [triangles[t], triangles[t + 1], triangles[t + 2]];
-    const [ax, ay, bx, by, cx, cy] = [vertices[2 * a], vertices[2 * a + 1], vertices[2 * b], vertices[2 * b + 1], vertices[2 * c], vertices[2 * c + 1]];
-    const d = (by - cy) * (ax - cx) + (cx - bx) * (ay - cy);
-    const wa = ((by - cy) * (x - cx) + (cx - bx) * (y - cy)) / d;
-    const wb = ((cy - ay) * (x - cx) + (ax - cx) * (y - cy)) / d;
-    const wc = 1 - wa - wb;
-    if (wa >= -1e-9 && wb >= -1e-9 && wc >= -1e-9) return [[a, b, c], [wa, wb, wc]];
-  }
-  throw new Error(`pin (${x}, ${y}) is outside the mesh`);
-}
-
-/** Where each pin's material is in `positions`. */
-function material(pins, positions) {
-  return new Float64Array(
-    pins.flatMap((p) => {
-      const [vs, ws] = locate(p);
-      return [0, 1].map((k) => vs.reduce((s, v, i) => s + ws[i] * positions[2 * v + k], 0));
-    }),
-  );
-}
-
 /** The triangles whose rest centroid lies within `r` of `p`. */
 function near(p, r) {
   const out = new Float32Array(triangles.length / 3);
@@ -72,32 +48,29 @@ function near(p, r) {
   return out;
 }
 
-const hasKinds = Puppet.prototype.compile.length >= 2 && Puppet.prototype.update.length >= 2;
-
 /** Poses the puppet and writes `docs/pins/<name>.png`. */
-function figure(name, { pins, targets, kinds, angles, depth, overlays = {} }) {
+function figure(name, { pins, targets, kinds, angles, starch, overlap, overlays = {} }) {
   const puppet = Puppet.register(vertices, triangles, { method: "two-step" });
-  const handles = new Float64Array(pins.flat());
-  let positions;
-  if (kinds && hasKinds) {
-    puppet.compile(handles, { kinds });
-    positions = puppet.update(new Float64Array(targets.flat()), new Float64Array(angles ?? pins.map(() => 0)));
-  } else {
-    puppet.compile(handles);
-    positions = puppet.update(new Float64Array(targets.flat()));
-  }
+  puppet.compile(new Float64Array(pins.flat()), { kinds });
+  if (starch) puppet.setStarch(starch);
+  if (overlap) puppet.setOverlap(overlap);
+  const rotations = new Float64Array((angles ?? pins.map(() => 0)).flatMap((a) => [a, 1]));
+  const positions = puppet.update(new Float64Array(targets.flat()), rotations);
+  // A bend pin has no target (its point goes where the shape takes it): no lag line.
+  const at = puppet.pinPositions;
+  const shown = new Float64Array(targets.flat()).map((x, i) => (puppet.kinds[i >> 1] === "bend" ? at[i] : x));
   const frame = renderer.render(positions, triangles, uvs, FW, FH, {
     transform: [scale, 0, 0, scale, 0, 0],
     background,
-    depth,
+    depth: overlap ? puppet.triangleDepth : undefined,
     overlays: {
       outline: { color: [40, 40, 60, 200], width: 1.5 },
       ...overlays,
       pins: {
-        positions: material(pins, positions),
-        kinds,
+        positions: at, // where the material under each pin went
+        kinds: puppet.kinds,
         angles: angles && new Float64Array(angles),
-        targets: new Float64Array(targets.flat()),
+        targets: shown,
         size: 5,
       },
     },
@@ -113,40 +86,33 @@ function figure(name, { pins, targets, kinds, angles, depth, overlays = {} }) {
 const raise = [RIGHT_HAND[0] + 40, RIGHT_HAND[1] - 150];
 figure("position", { pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS], targets: [HEAD, LEFT_HAND, raise, HIPS] });
 
-// The left hand across the belly, the left arm (left of x = 0.3 W at rest) in front.
-const arm = new Float32Array(triangles.length / 3);
-for (let t = 0; t < arm.length; t++) {
-  const x = [0, 1, 2].reduce((s, k) => s + vertices[2 * triangles[3 * t + k]] / 3, 0);
-  arm[t] = x < 0.3 * W ? 1 : 0;
-}
-const across = { pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS], targets: [HEAD, [0.56 * W, 0.5 * H], RIGHT_HAND, HIPS], depth: arm };
+// The left hand across the belly, the left arm given the larger depth (so drawn in front).
+const across = {
+  pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
+  targets: [HEAD, [0.56 * W, 0.5 * H], RIGHT_HAND, HIPS],
+  overlap: [{ at: LEFT_HAND, depth: 1, extent: 0.16 * W }],
+};
 figure("overlap", across);
 figure("overlap-depth", { ...across, overlays: { depth: { front: [255, 255, 255, 110], back: [20, 20, 40, 110] } } });
 
 figure("starch", {
   pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
   targets: [[HEAD[0] + 60, HEAD[1] + 10], LEFT_HAND, RIGHT_HAND, HIPS],
+  starch: [{ at: HEAD, amount: 1, extent: 90 }],
   overlays: { wireframe: true, starch: near(HEAD, 90) },
 });
 
-if (hasKinds) {
-  figure("bend", {
-    pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
-    targets: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
-    kinds: ["position", "position", "bend", "position"],
-    angles: [0, 0, Math.PI / 3, 0],
-  });
-  figure("advanced", {
-    pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
-    targets: [HEAD, LEFT_HAND, raise, HIPS],
-    kinds: ["position", "position", "advanced", "position"],
-    angles: [0, 0, -Math.PI / 4, 0],
-  });
-} else {
-  console.log(
-    "skipped bend.png and advanced.png: the package has no pin kinds yet " +
-      "(TODO: puppet.compile(handles, { kinds }) and puppet.update(targets, rotations))",
-  );
-}
+figure("bend", {
+  pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
+  targets: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
+  kinds: ["position", "position", "bend", "position"],
+  angles: [0, 0, Math.PI / 3, 0],
+});
+figure("advanced", {
+  pins: [HEAD, LEFT_HAND, RIGHT_HAND, HIPS],
+  targets: [HEAD, LEFT_HAND, raise, HIPS],
+  kinds: ["position", "position", "advanced", "position"],
+  angles: [0, 0, -Math.PI / 4, 0],
+});
 renderer.free();
 mesh.free();
