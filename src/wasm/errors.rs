@@ -24,7 +24,8 @@ export type ErrorCode =
   | "folded-edge" | "unused-vertex" | "empty-mesh"
   | "handle-outside" | "bad-handle" | "coincident-handles" | "factorization-failed"
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
-  | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose";
+  | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
+  | "point-outside" | "overlapping-pins";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -34,7 +35,8 @@ export interface BunrakuError extends Error {
   code: ErrorCode;
   /** `non-finite`, `too-large`: the index of the offending number in the flat typed array passed
    *  (`[x0, y0, …]`; of a blend's `weights`: the weight); `handle-outside`, `bad-handle`: the handle
-   *  (or pin); `bad-pose`: the pose index given. */
+   *  (or pin); `bad-pose`: the pose index given; `point-outside`: the starch or overlap region;
+   *  `bad-option` for an item of a list (`kinds[1]`, `radius[1]`, `starch[0].extent`): the item. */
   index?: number;
   /** `non-finite`, `too-large`: the point (vertex, handle, target) the number belongs to. */
   item?: number;
@@ -55,13 +57,13 @@ export interface BunrakuError extends Error {
   vertex?: number;
   /** `index-out-of-range`: how many vertices there are. */
   vertexCount?: number;
-  /** `coincident-handles`, `duplicate-triangle`: the earlier of the two. */
+  /** `coincident-handles`, `overlapping-pins`, `duplicate-triangle`: the earlier of the two. */
   first?: number;
-  /** `coincident-handles`, `duplicate-triangle`: the later of the two. */
+  /** `coincident-handles`, `overlapping-pins`, `duplicate-triangle`: the later of the two. */
   second?: number;
   /** `non-manifold-edge`, `folded-edge`, `inconsistent-orientation`: the edge's vertices, smaller first. */
   edge?: [number, number];
-  /** `handle-outside`: the handle's rest-space point. */
+  /** `handle-outside`, `point-outside`: the handle's or the region's rest-space point. */
   point?: [number, number];
   /** `bad-length`, `bad-picture` (buffer): the length given. */
   length?: number;
