@@ -107,3 +107,13 @@ test("no `any` in a public signature of bunraku.d.ts", () => {
   const lines = api.split("\n").filter((l) => /\bany\b/.test(l));
   assert.deepEqual(lines, []);
 });
+
+test("README.md lists every error code of the declarations", () => {
+  const dts = readFileSync(join(root, "pkg/bunraku.d.ts"), "utf8");
+  const union = dts.match(/export type ErrorCode =([^;]*);/);
+  assert.ok(union, "ErrorCode in pkg/bunraku.d.ts");
+  const codes = [...union[1].matchAll(/"([a-z-]+)"/g)].map((m) => m[1]);
+  assert.ok(codes.length > 20, `${codes.length} codes`);
+  const missing = codes.filter((c) => !readme.includes(`| \`${c}\` |`));
+  assert.deepEqual(missing, [], "codes without a row in README.md's table");
+});
