@@ -250,6 +250,30 @@ pub enum Error {
         /// The largest magnitude allowed.
         limit: f64,
     },
+    /// A time that is not finite, or a recorded time earlier than the last
+    /// ([`crate::animation::Track::record`], [`crate::animation::Player::positions_into`]).
+    BadTime {
+        /// The time given, in seconds.
+        time: f64,
+        /// What is wrong with it ("is not finite").
+        reason: &'static str,
+    },
+    /// A [`crate::animation::Track`] with no sample was sampled.
+    EmptyTrack,
+    /// A puppet document or a track's JSON that cannot be read or played
+    /// ([`crate::animation`]); its code follows the fault: `"bad-document"`,
+    /// `"bad-version"`, `"bad-length"` or `"non-finite"`.
+    BadDocument {
+        /// What kind of problem.
+        fault: crate::animation::DocumentFault,
+        /// Where: the field's path (`mesh.uvs`, `poses[1].positions`, `track.times[3]`),
+        /// empty for the document as a whole.
+        field: String,
+        /// The offending number, when one is at fault.
+        value: Option<f64>,
+        /// Why, after the field and the value.
+        reason: String,
+    },
 }
 
 /// How a message names options and prints numbers: [`RustVocabulary`] for `Display`, the
@@ -295,8 +319,10 @@ impl Error {
     /// `"overlapping-pins"`,
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
     /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
-    /// `"bad-pose"`. A wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"`
-    /// too; a bad blend weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`.
+    /// `"bad-pose"`, `"bad-time"`, `"empty-track"`, `"bad-document"`, `"bad-version"`. A
+    /// wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"` too; a bad blend
+    /// weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`; a bad document's
+    /// code follows its [`crate::animation::DocumentFault`].
     pub fn code(&self) -> &'static str {
         match self {
             Error::BadLength { .. } | Error::CountMismatch { .. } => "bad-length",
@@ -329,6 +355,14 @@ impl Error {
             Error::BadPose { .. } => "bad-pose",
             Error::BadWeight { value, .. } if !value.is_finite() => "non-finite",
             Error::BadWeight { .. } => "too-large",
+            Error::BadTime { .. } => "bad-time",
+            Error::EmptyTrack => "empty-track",
+            Error::BadDocument { fault, .. } => match fault {
+                crate::animation::DocumentFault::Structure => "bad-document",
+                crate::animation::DocumentFault::Version => "bad-version",
+                crate::animation::DocumentFault::Length => "bad-length",
+                crate::animation::DocumentFault::NonFinite => "non-finite",
+            },
         }
     }
 
@@ -432,6 +466,13 @@ impl Error {
             }
             Error::BadWeight { index, value, limit } => {
                 format!("weights: weight {index} is {}, not a finite number within ±{}", n(*value), n(*limit))
+            }
+            Error::BadTime { time, reason } => format!("time {} {reason}", n(*time)),
+            Error::EmptyTrack => "the track has no sample".to_string(),
+            Error::BadDocument { field, value, reason, .. } => {
+                let value = value.map(|x| format!("{} ", n(x))).unwrap_or_default();
+                let field = if field.is_empty() { String::new() } else { format!("{field}: ") };
+                format!("puppet document: {field}{value}{reason}")
             }
         }
     }

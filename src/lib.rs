@@ -27,6 +27,7 @@
 
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod blend;
 pub mod conventions;
 pub mod deform;
