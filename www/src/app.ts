@@ -1,25 +1,32 @@
 // The demo's state and how the parts meet: the picture shown and its rig, the view, the
-// pins as the pointer sees them (PinBoard), the worker that owns the puppets, and the
-// frame, which only draws: solves come back from the worker between frames. The pins
-// follow the pointer at the frame rate; the picture is redrawn when a new pose (or view)
-// arrives, so a slow solve never holds the pins back and a frame without one costs only
-// the overlay.
+// pins and regions as the pointer sees them (PinBoard), the worker that owns the puppets,
+// and the frame, which only draws: solves come back from the worker between frames. The
+// pins follow the pointer at the frame rate; the picture is redrawn when a new pose (or
+// view) arrives, so a slow solve never holds the pins back and a frame without one costs
+// only the overlay. While the injective method has not converged (a pin lags behind its
+// target), the page keeps sending the same targets, one update after another, until it
+// has; the flip count is asked for a few times a second while posing, and once the pose
+// is still.
 //
 // Opens and remeshes get increasing generation numbers when they are asked for, and only
 // the newest one asked for is ever installed, so the last picture opened wins whatever
 // order decodes and answers finish in. Solves: at most one update in flight; pointer moves
 // meanwhile only mark the targets dirty, and the newest targets go when the answer comes
 // (latency about one frame). Positions alternate between two buffers that travel to the
-// worker and back, so a frame copies and allocates none.
+// worker and back, so a frame copies and allocates none. Starch and overlap requests go
+// in the same queue, so an update sent after one sees it.
 
 import type { Answer, PuppetWorker } from "./client.js";
+import { exportWithOverlays } from "./exporter.js";
 import { FrameLoop, type SolveStamp } from "./frames.js";
-import { Overlay, type PinMark } from "./overlay.js";
+import { anchorAt, follow, turnAt } from "./locate.js";
+import { Overlay, ringRadius, type PinMark, type RegionMark } from "./overlay.js";
 import type { Picture } from "./picture.js";
-import type { PinBoard } from "./pointer.js";
-import { toError, type Method, type OpenResult, type PinPlan, type RegisterOptions } from "./protocol.js";
-import type { PictureRenderer } from "./renderer.js";
-import { newVersion, Rig, type Pin } from "./rig.js";
+import type { PinBoard, Tool } from "./pointer.js";
+import { toError, type Method, type OpenBody, type OpenResult, type PinKind, type PinPlan, type RegisterOptions } from "./protocol.js";
+import { Regions, starchPerTriangle, type RegionKind } from "./regions.js";
+import { hasDepth, type PictureRenderer } from "./renderer.js";
+import { newVersion, Rig, turns, type Pin } from "./rig.js";
 import type { Status } from "./status.js";
 import { View } from "./view.js";
 
@@ -31,14 +38,20 @@ export interface AppParts {
   worker: PuppetWorker;
   /** Target vertex count of a picture's mesh. */
   density: number;
-  /** How updates compute the shape (the page's `?method=`); the package's default when
-   *  absent. */
-  method?: Method | undefined;
+  /** How updates compute the shape (the method selector, or the page's `?method=`). */
+  method: Method;
 }
 
 /** `performance.mark` set when the first picture is on the canvas. */
 export const FIRST_PICTURE_MARK = "bunraku:first-picture";
 
+
+/** How often the flip count is measured while the pose changes (it costs O(n)). */
+const FLIPS_EVERY_MS = 250;
+/** A pin further than this (CSS pixels) from its target lags: it gets a line to it. */
+const LAG_SHOWN = 1;
+/** A region placed with a click reaches this fraction of the rest shape's diagonal. */
+const DEFAULT_EXTENT = 0.08;
 
 /** Pins given as fractions of a picture's width and height. */
 export type PinFractions = ReadonlyArray<readonly [number, number]>;
@@ -57,6 +70,12 @@ export class App implements PinBoard {
   readonly view = new View();
   readonly frames: FrameLoop;
   selected: number | null = null;
+  /** What pressing the shape does, and the kind of the pins it adds. */
+  tool: Tool = "pin";
+  pinKind: PinKind = "position";
+  /** The starch amount and overlap depth of the next region placed. */
+  readonly amounts: Record<RegionKind, number> = { starch: 1, overlap: 1 };
+  readonly regions = new Regions();
 
   private rig: Rig | null = null;
   /** Whether the worker holds `rig`'s generation (not after a crash, until it is rebuilt). */
@@ -69,6 +88,10 @@ export class App implements PinBoard {
   /** Opens (decoding included) and compiles not answered yet. */
   private busy = 0;
   private readonly solving = { dirty: false, inFlight: false, scheduled: false };
+  /** The flip count: whether the pose changed since it was last asked for, and when. */
+  private readonly flips = { stale: false, inFlight: false, at: -Infinity, timer: 0 };
+  /** The region being placed, in stage CSS pixels. */
+  private placing: RegionMark | null = null;
   /** The positions buffer not on screen, ready for the next update. */
   private spare: Float64Array | null = null;
   /** A solve that came back and is not drawn yet. */
@@ -86,7 +109,7 @@ export class App implements PinBoard {
   private readonly status: Status;
   private readonly worker: PuppetWorker;
   private density: number;
-  private readonly register: RegisterOptions;
+  private register: RegisterOptions;
   private readonly show = { wireframe: false, pins: true };
   private dragged: ReadonlySet<number> = new Set();
   private size = { width: 0, height: 0, dpr: 1 }; // stage, CSS pixels
@@ -100,7 +123,7 @@ export class App implements PinBoard {
     this.worker = parts.worker;
     this.density = parts.density;
     // Cotangent weights suit meshes refined near sharp corners (a picture's outline).
-    this.register = parts.method ? { weights: "cotangent", method: parts.method } : { weights: "cotangent" };
+    this.register = { weights: "cotangent", method: parts.method };
     this.frames = new FrameLoop(() => this.frame());
     this.status.renderer(this.renderer.name);
     this.status.pins(0);
@@ -113,7 +136,7 @@ export class App implements PinBoard {
   /** Requests in flight to the worker, and whether targets wait to be sent. */
   pending(): { opens: number; compiles: number; updates: number; dirty: boolean } {
     const calls = this.worker.inFlight();
-    return { opens: calls.open, compiles: calls.compile, updates: calls.update, dirty: this.solving.dirty };
+    return { opens: calls.open, compiles: calls.compile + calls.starch + calls.overlap, updates: calls.update, dirty: this.solving.dirty };
   }
 
   /** Makes the picture `source` resolves to the puppet: meshes it, registers it and pins
@@ -137,8 +160,10 @@ export class App implements PinBoard {
       if (generation !== this.generation) return false;
       const { width, height } = picture.pixels;
       const rests = pins && Float64Array.from(pins.flatMap(([u, v]) => [u * width, v * height]));
-      const plan: PinPlan = rests ? { kind: "at", rests, targets: rests.slice() } : { kind: "auto" };
-      const outcome = await this.mesh(generation, picture, plan, { refitted: `${picture.name}: its pins do not fit; pinned automatically` });
+      const kinds = Array.from({ length: (rests?.length ?? 0) / 2 }, () => "position" as const);
+      const rotations = Float64Array.from(kinds.flatMap(() => [0, 1]));
+      const plan: PinPlan = rests ? { kind: "at", rests, kinds, targets: rests.slice(), rotations } : { kind: "auto" };
+      const outcome = await this.mesh(generation, picture, plan, { starch: [], overlap: [] }, { refitted: `${picture.name}: its pins do not fit; pinned automatically` });
       return outcome === "installed";
     } finally {
       if (this.opening === opening) this.opening = null;
@@ -165,6 +190,42 @@ export class App implements PinBoard {
     return false;
   }
 
+  /** Registers the picture again with `method`, keeping the mesh's density, the pins, the
+   *  pose and the regions. Resolves to false, with the reason on the page, when the
+   *  library refuses (the method stays as it was). */
+  async setMethod(method: Method): Promise<boolean> {
+    const previous = this.register;
+    this.register = { ...previous, method };
+    if (this.opening) {
+      void this.openPicture(this.opening.source, this.opening.pins);
+      return true;
+    }
+    const rig = this.rig;
+    if (!rig) return true;
+    const outcome = await this.remesh(rig, { refitted: "the pins do not fit; pinned automatically" });
+    if (outcome !== "failed" || this.register.method !== method) return true;
+    this.register = previous;
+    return false;
+  }
+
+  /** The method the puppet on screen was registered with. */
+  get method(): Method | null {
+    return this.rig?.method ?? null;
+  }
+
+  setTool(tool: Tool): void {
+    this.tool = tool;
+    this.frames.request(); // the regions show while a region tool is chosen
+  }
+
+  /** Removes every starch and overlap region. */
+  clearRegions(): void {
+    const rig = this.rig;
+    if (!rig || !this.live) return;
+    this.sendStarch(rig, this.regions.starch.clear());
+    this.sendOverlap(rig, this.regions.overlap.clear());
+  }
+
   showWireframe(on: boolean): void {
     this.show.wireframe = on;
     this.frames.request();
@@ -175,6 +236,8 @@ export class App implements PinBoard {
     this.frames.request();
   }
 
+  /** Puts the pins back at rest (targets, turns and scales) and the puppet's state too
+   *  (`puppet.reset()`), so that the injective method starts again from the rest shape. */
   resetPose(): void {
     const rig = this.rig;
     if (!rig) return;
@@ -183,15 +246,47 @@ export class App implements PinBoard {
     // otherwise start from the pose being left.
     if (this.live) void this.worker.call("reset", { generation: rig.generation });
     this.requestSolve();
+    this.frames.request();
   }
 
-  /** The current frame (the posed picture, without pins or wireframe) as a PNG. */
-  exportPNG(): Promise<Blob> {
+  /** The current frame as a PNG: the posed picture alone, or with `overlays` the pins
+   *  (when shown), the wireframe (when shown), starch and overlap drawn over it by the
+   *  package's `Renderer`. */
+  exportPNG(overlays = false): Promise<Blob> {
+    const rig = this.rig;
+    if (overlays && rig) return this.exportOverlays(rig);
     this.pictureDirty = true;
     this.frames.runNow(); // a WebGL canvas is read back before the frame is presented
     return new Promise((resolve, reject) =>
       this.stage.toBlob((blob) => (blob ? resolve(blob) : reject(new Error("could not encode the frame as PNG"))), "image/png"),
     );
+  }
+
+  private exportOverlays(rig: Rig): Promise<Blob> {
+    const pins = rig.pins;
+    const material = Float64Array.from(pins.flatMap((p) => rig.materialOf(p.id) ?? p.target));
+    // A bend pin has no target of its own: no lag line.
+    const targets = Float64Array.from(pins.flatMap((p, k) => (p.kind === "bend" ? [material[2 * k], material[2 * k + 1]] : p.target)));
+    const depth = hasDepth(rig.depth) ? rig.depth : null;
+    const starch = this.regions.starch.current;
+    return exportWithOverlays({
+      picture: rig.picture.pixels,
+      positions: rig.positions,
+      triangles: rig.triangles,
+      uvs: rig.uvs,
+      width: this.stage.width,
+      height: this.stage.height,
+      transform: this.view.deviceTransform(this.size.dpr),
+      depth,
+      overlays: {
+        ...(this.show.pins && pins.length > 0
+          ? { pins: { positions: material, kinds: pins.map((p) => p.kind), angles: Float64Array.from(pins, (p) => p.angle), targets, size: 4 * this.size.dpr } }
+          : {}),
+        wireframe: this.show.wireframe,
+        ...(starch.length > 0 ? { starch: starchPerTriangle(rig.rest, rig.triangles, rig.edges, starch) } : {}),
+        depth: depth !== null,
+      },
+    });
   }
 
   /** The stage's size changed: `width` × `height` CSS pixels, `dpr` device pixels each. */
@@ -238,15 +333,25 @@ export class App implements PinBoard {
     }
   }
 
-  // --- PinBoard: the pins as the pointer sees them (stage CSS pixels) ---
+  // --- PinBoard: the pins and regions as the pointer sees them (stage CSS pixels) ---
 
-  pinAt(x: number, y: number, radius: number): number | null {
-    let best: number | null = null;
+  hit(x: number, y: number, radius: number): { pin: number; part: "centre" | "ring" } | null {
+    const rig = this.rig;
+    if (!rig) return null;
+    let best: { pin: number; part: "centre" | "ring" } | null = null;
     let bestDistance = radius;
-    for (const pin of this.rig?.pins ?? []) {
-      const [px, py] = this.view.toStage(...pin.target);
-      const d = Math.hypot(px - x, py - y);
-      if (d <= bestDistance) [best, bestDistance] = [pin.id, d];
+    for (const pin of rig.pins) {
+      const [cx, cy] = this.view.toStage(...(rig.materialOf(pin.id) ?? pin.target));
+      const [tx, ty] = this.view.toStage(...pin.target);
+      const centre = Math.min(Math.hypot(cx - x, cy - y), pin.kind === "bend" ? Infinity : Math.hypot(tx - x, ty - y));
+      if (centre <= bestDistance) [best, bestDistance] = [{ pin: pin.id, part: "centre" }, centre];
+    }
+    if (best) return best;
+    for (const pin of rig.pins) {
+      if (!turns(pin.kind)) continue;
+      const [cx, cy] = this.view.toStage(...(rig.materialOf(pin.id) ?? pin.target));
+      const ring = Math.abs(Math.hypot(cx - x, cy - y) - ringRadius(pin.scale));
+      if (ring <= bestDistance) [best, bestDistance] = [{ pin: pin.id, part: "ring" }, ring];
     }
     return best;
   }
@@ -254,6 +359,16 @@ export class App implements PinBoard {
   pinPosition(id: number): [number, number] | null {
     const pin = this.rig?.pin(id);
     return pin ? this.view.toStage(...pin.target) : null;
+  }
+
+  pinCentre(id: number): [number, number] | null {
+    const at = this.rig?.materialOf(id);
+    return at ? this.view.toStage(...at) : null;
+  }
+
+  pinTurn(id: number): { turns: boolean; movable: boolean; angle: number; scale: number } | null {
+    const pin = this.rig?.pin(id);
+    return pin ? { turns: turns(pin.kind), movable: pin.kind !== "bend", angle: pin.angle, scale: pin.scale } : null;
   }
 
   addPin(x: number, y: number): number | null {
@@ -265,7 +380,8 @@ export class App implements PinBoard {
       this.status.error(`no pin added: (${px.toFixed(1)}, ${py.toFixed(1)}) is not on the shape`);
       return null;
     }
-    const pin = rig.newPin(rest, [px, py]);
+    // Turned and scaled as the shape already is there, so that nothing jumps.
+    const pin = rig.newPin(this.pinKind, rest, [px, py], turnAt(rig.positions, rig.rest, rig.triangles, ...rest));
     this.status.clear();
     this.compilePins(rig, [...rig.pins, pin]);
     return pin.id;
@@ -275,6 +391,12 @@ export class App implements PinBoard {
     this.rig?.moveTarget(id, ...this.view.toPicture(x, y));
     this.requestSolve();
     this.frames.request(); // the pin follows now; the picture when its pose comes back
+  }
+
+  turnPin(id: number, angle: number, scale: number): void {
+    this.rig?.turnPin(id, angle, scale);
+    this.requestSolve();
+    this.frames.request();
   }
 
   setDragged(ids: ReadonlySet<number>): void {
@@ -290,6 +412,31 @@ export class App implements PinBoard {
     this.compilePins(rig, rig.pins.filter((p) => p.id !== id));
   }
 
+  previewRegion(region: { kind: RegionKind; x: number; y: number; radius: number } | null): void {
+    const rig = this.rig;
+    this.placing = region && rig ? { ...region, radius: region.radius || this.defaultExtent(rig) * this.view.scale, placing: true } : null;
+    this.frames.request();
+  }
+
+  placeRegion(kind: RegionKind, x: number, y: number, radius: number): void {
+    const rig = this.rig;
+    if (!rig || !this.live) return;
+    const [px, py] = this.view.toPicture(x, y);
+    const rest = rig.restPointAt(px, py);
+    const anchor = rest && anchorAt(rig.rest, rig.triangles, ...rest);
+    if (!rest || !anchor) {
+      this.status.error(`no ${kind} placed: (${px.toFixed(1)}, ${py.toFixed(1)}) is not on the shape`);
+      return;
+    }
+    this.status.clear();
+    // The extent is in rest units: the drag's length undone by the view and the pose's
+    // scale there.
+    const extent = radius > 0 ? radius / this.view.scale / turnAt(rig.positions, rig.rest, rig.triangles, ...rest).scale : this.defaultExtent(rig);
+    const at: [number, number] = [rest[0], rest[1]];
+    if (kind === "starch") this.sendStarch(rig, this.regions.starch.add({ region: { at, amount: this.amounts.starch, extent }, anchor }));
+    else this.sendOverlap(rig, this.regions.overlap.add({ region: { at, depth: this.amounts.overlap, extent }, anchor }));
+  }
+
   // --- internals ---
 
   /** Remeshes `rig`'s picture at the current density with its pins and pose, as a new
@@ -298,7 +445,7 @@ export class App implements PinBoard {
     const generation = ++this.generation;
     this.busy++;
     try {
-      return await this.mesh(generation, rig.picture, { kind: "at", ...rig.pinArrays() }, wording);
+      return await this.mesh(generation, rig.picture, { kind: "at", ...rig.pinArrays() }, this.regions.lists(), wording);
     } finally {
       this.busy--;
       this.checkSettled();
@@ -307,7 +454,7 @@ export class App implements PinBoard {
 
   /** Asks the worker for generation `generation` of `picture` and installs it if it is
    *  still the newest asked for when the answer comes. */
-  private async mesh(generation: number, picture: Picture, pins: PinPlan, wording: Wording): Promise<Outcome> {
+  private async mesh(generation: number, picture: Picture, pins: PinPlan, regions: OpenBody["regions"], wording: Wording): Promise<Outcome> {
     const { width, height, data } = picture.pixels;
     this.status.info(`meshing ${picture.name}…`);
     // The pixels are copied into the message: the page keeps its own for the texture.
@@ -318,6 +465,7 @@ export class App implements PinBoard {
       register: this.register,
       pins,
       version: newVersion(),
+      regions,
     });
     if (generation !== this.generation) {
       if (answer.status === "ok") this.release(generation);
@@ -344,7 +492,9 @@ export class App implements PinBoard {
     const old = this.rig;
     if (old?.picture !== picture) this.renderer.setPicture(picture.pixels);
     this.renderer.setMesh(rig.triangles, rig.uvs);
+    this.renderer.setDepth(rig.depth);
     this.overlay.setEdges(rig.edges);
+    this.regions.adopt(rig.rest, rig.triangles, opened.regions);
     if (old && this.live) this.release(old.generation);
     this.rig = rig;
     this.live = true;
@@ -354,6 +504,7 @@ export class App implements PinBoard {
     this.status.mesh(picture.name, rig.vertexCount, rig.triangleCount);
     if (opened.pinned === "none") this.status.error(opened.warning ? toError(opened.warning) : "", `${picture.name}: no starting pins`);
     else if (opened.warning) this.status.error(toError(opened.warning), wording.refitted);
+    else if (opened.regionWarning) this.status.error(toError(opened.regionWarning), "the starch and overlap regions do not fit the new mesh; removed");
     else if (wording.done) this.status.error(wording.done);
     else this.status.clear();
     this.status.pins(rig.pins.length);
@@ -362,8 +513,10 @@ export class App implements PinBoard {
     this.frames.request();
     // Targets moved while the remesh ran are the old rig's; the new one starts posed as
     // it was asked for, so only an unconverged method needs another update.
-    this.solving.dirty = opened.stats.converged === false;
+    this.solving.dirty = !opened.stats.converged;
+    this.flips.stale = true;
     this.pump();
+    this.measureFlips();
   }
 
   private release(generation: number): void {
@@ -374,10 +527,10 @@ export class App implements PinBoard {
    *  refuses them (the library's error is shown). */
   private compilePins(rig: Rig, pins: Pin[]): void {
     const version = newVersion();
-    const handles = rig.propose(pins, version);
+    const { handles, kinds } = rig.propose(pins, version);
     this.status.pins(rig.pins.length);
     this.busy++;
-    void this.worker.call("compile", { generation: rig.generation, version, handles }).then((answer) => {
+    void this.worker.call("compile", { generation: rig.generation, version, handles, kinds }).then((answer) => {
       this.busy--;
       if (answer.status === "ok") rig.confirm(version);
       else {
@@ -395,6 +548,70 @@ export class App implements PinBoard {
       this.checkSettled();
     });
     this.requestSolve();
+  }
+
+  /** Sends the starch list numbered `sent`; the next update shows it. A refused list goes
+   *  back to the last one the worker took (the library's error is shown). */
+  private sendStarch(rig: Rig, { regions, sent }: { regions: OpenBody["regions"]["starch"]; sent: number }): void {
+    this.busy++;
+    void this.worker.call("starch", { generation: rig.generation, regions }).then((answer) => {
+      this.busy--;
+      if (answer.status === "ok") this.regions.starch.confirm(sent);
+      else if (this.regions.starch.reject(sent) && answer.status === "error" && rig === this.rig) this.status.error(answer.error);
+      if (rig === this.rig) this.requestSolve();
+      this.frames.request();
+      this.checkSettled();
+    });
+    this.requestSolve();
+    this.frames.request();
+  }
+
+  /** Sends the overlap list numbered `sent`; its answer brings the triangles' depths, which
+   *  reorder the drawing. */
+  private sendOverlap(rig: Rig, { regions, sent }: { regions: OpenBody["regions"]["overlap"]; sent: number }): void {
+    this.busy++;
+    void this.worker.call("overlap", { generation: rig.generation, regions }).then((answer) => {
+      this.busy--;
+      if (answer.status === "ok") {
+        this.regions.overlap.confirm(sent);
+        if (rig === this.rig) {
+          rig.depth = answer.result.depth;
+          this.renderer.setDepth(rig.depth);
+          this.pictureDirty = true;
+        }
+      } else if (this.regions.overlap.reject(sent) && answer.status === "error" && rig === this.rig) {
+        this.status.error(answer.error);
+      }
+      this.frames.request();
+      this.checkSettled();
+    });
+    this.frames.request();
+  }
+
+  /** Asks for the flip count of the newest pose: at once when the pose is still, else at
+   *  most every FLIPS_EVERY_MS. */
+  private measureFlips(): void {
+    const f = this.flips;
+    const rig = this.rig;
+    if (!f.stale || f.inFlight || !rig || !this.live) return this.checkSettled();
+    const wait = f.at + FLIPS_EVERY_MS - performance.now();
+    if ((this.solving.inFlight || this.solving.dirty) && wait > 0) {
+      if (!f.timer) {
+        f.timer = window.setTimeout(() => {
+          f.timer = 0;
+          this.measureFlips();
+        }, wait);
+      }
+      return;
+    }
+    f.stale = false;
+    f.inFlight = true;
+    f.at = performance.now();
+    void this.worker.call("quality", { generation: rig.generation }).then((answer) => {
+      f.inFlight = false;
+      if (answer.status === "ok" && rig === this.rig) this.status.flips(answer.result.flipped, answer.result.windingDefects);
+      this.measureFlips();
+    });
   }
 
   /** Marks the targets dirty; they are sent once the current task is done (moves in the
@@ -420,28 +637,36 @@ export class App implements PinBoard {
     this.spare = null;
     const sent = performance.now();
     void this.worker
-      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, out }, [out.buffer])
+      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, rotations: rig.rotations, out }, [out.buffer])
       .then((answer: Answer<"update">) => {
         s.inFlight = false;
         if (answer.status === "ok" && rig === this.rig && answer.result.positions.length === n) {
-          const { positions, stats } = answer.result;
+          const { positions, pinPositions, stats, version } = answer.result;
           this.spare = rig.positions;
           rig.positions = positions;
+          rig.pinPositions = pinPositions;
+          rig.shownVersion = version;
+          rig.converged = stats.converged;
           this.fresh = { solveMs: stats.solveMs, roundTripMs: performance.now() - sent };
           this.lastSolveMs = stats.solveMs;
           this.pictureDirty = true;
-          if (stats.converged === false) s.dirty = true;
+          this.flips.stale = true;
+          // Not converged: the same targets again, continuing where this update stopped.
+          if (!stats.converged) s.dirty = true;
           this.frames.request();
         } else if (answer.status === "error" && rig === this.rig) {
           this.status.error(answer.error);
         }
         this.pump();
+        this.measureFlips();
       });
   }
 
   private idle(): boolean {
     const s = this.solving;
-    return this.busy === 0 && !s.inFlight && !s.scheduled && !(s.dirty && this.live && this.rig);
+    const f = this.flips;
+    const live = this.live && this.rig !== null;
+    return this.busy === 0 && !s.inFlight && !s.scheduled && !(s.dirty && live) && !f.inFlight && !(f.stale && live);
   }
 
   private checkSettled(): void {
@@ -455,6 +680,45 @@ export class App implements PinBoard {
     if (this.rig) this.view.fit(this.rig.rest, this.size.width, this.size.height);
   }
 
+  /** The pins where their material is, with their targets while they lag. */
+  private pinMarks(rig: Rig): PinMark[] {
+    return rig.pins.map((p: Pin) => {
+      const [x, y] = this.view.toStage(...(rig.materialOf(p.id) ?? p.target));
+      const [tx, ty] = this.view.toStage(...p.target);
+      const lags = p.kind !== "bend" && Math.hypot(tx - x, ty - y) > LAG_SHOWN;
+      return {
+        x,
+        y,
+        target: lags ? { x: tx, y: ty } : null,
+        kind: p.kind,
+        angle: p.angle,
+        scale: p.scale,
+        active: this.dragged.has(p.id),
+        selected: p.id === this.selected,
+      };
+    });
+  }
+
+  /** The region being placed and, while a region tool is chosen, that tool's regions
+   *  where the pose has taken them. */
+  private regionMarks(rig: Rig): RegionMark[] {
+    const marks: RegionMark[] = [];
+    const tool = this.tool;
+    if (tool !== "pin") {
+      for (const { region, anchor } of this.regions[tool].current) {
+        const [x, y] = this.view.toStage(...follow(rig.positions, rig.triangles, anchor));
+        marks.push({ kind: tool, x, y, radius: region.extent * this.view.scale, placing: false });
+      }
+    }
+    if (this.placing) marks.push(this.placing);
+    return marks;
+  }
+
+  /** A clicked region's extent, in rest units. */
+  private defaultExtent(rig: Rig): number {
+    return DEFAULT_EXTENT * rig.diagonal;
+  }
+
   /** One frame: draws the newest pose and the overlay; returns the solve it shows first. */
   private frame(): SolveStamp | null {
     const rig = this.rig;
@@ -466,11 +730,7 @@ export class App implements PinBoard {
         this.pictureDirty = false;
         this.renderer.draw(rig.positions, this.view.deviceTransform(this.size.dpr));
       }
-      const marks: PinMark[] = rig.pins.map((p) => {
-        const [x, y] = this.view.toStage(...p.target);
-        return { x, y, active: this.dragged.has(p.id), selected: p.id === this.selected };
-      });
-      this.overlay.draw(rig.positions, this.view, marks, this.show);
+      this.overlay.draw(rig.positions, this.view, this.pinMarks(rig), this.regionMarks(rig), this.show);
     } catch (e) {
       this.status.error(e);
       return solve;

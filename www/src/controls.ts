@@ -1,24 +1,44 @@
 // The toolbar and the page as a drop target: open a picture (file picker or drag and
-// drop), mesh density, wireframe and pin toggles, reset pose, export PNG.
+// drop), mesh density, the method, the kind of new pins, the tool (pins, starch, overlap)
+// with the starch amount and overlap depth of new regions, wireframe and pin toggles,
+// reset pose, export PNG (with or without the overlays).
+
+import { METHODS, PIN_KINDS, type Method, type PinKind } from "./protocol.js";
+import type { Tool } from "./pointer.js";
+import type { RegionKind } from "./regions.js";
 
 export interface ControlActions {
   openFile(file: File): void;
   /** Resolves to false when the density was refused (the slider goes back). */
   setDensity(vertices: number): Promise<boolean>;
+  /** Resolves to false when the method was refused (the selector goes back). */
+  setMethod(method: Method): Promise<boolean>;
+  setPinKind(kind: PinKind): void;
+  setTool(tool: Tool): void;
+  /** The starch amount or overlap depth of the next region. */
+  setAmount(kind: RegionKind, value: number): void;
+  clearRegions(): void;
   showWireframe(on: boolean): void;
   showPins(on: boolean): void;
   resetPose(): void;
-  exportPNG(): void;
+  exportPNG(overlays: boolean): void;
 }
 
 export interface ControlElements {
   file: HTMLInputElement;
   density: HTMLInputElement;
   densityValue: HTMLOutputElement;
+  method: HTMLSelectElement;
+  pinKind: HTMLSelectElement;
+  /** The tool radios: pins, starch, overlap. */
+  tools: Record<Tool, HTMLInputElement>;
+  amounts: Record<RegionKind, { input: HTMLInputElement; value: HTMLOutputElement }>;
+  clearRegions: HTMLButtonElement;
   wireframe: HTMLInputElement;
   pins: HTMLInputElement;
   reset: HTMLButtonElement;
   export: HTMLButtonElement;
+  exportOverlays: HTMLInputElement;
   /** Gets the `dragging` class while a file is dragged over the page. */
   dropZone: HTMLElement;
 }
@@ -49,10 +69,40 @@ export function attachControls(el: ControlElements, actions: ControlActions): vo
     });
   });
 
+  // The method re-registers the picture; a refusal puts the selector back.
+  let method = el.method.value;
+  el.method.addEventListener("change", () => {
+    const value = el.method.value;
+    const chosen = METHODS.find((m) => m === value);
+    if (!chosen) return;
+    void actions.setMethod(chosen).then((ok) => {
+      if (ok) method = value;
+      else if (el.method.value === value) el.method.value = method;
+    });
+  });
+  el.pinKind.addEventListener("change", () => {
+    const kind = PIN_KINDS.find((k) => k === el.pinKind.value);
+    if (kind) actions.setPinKind(kind);
+  });
+  for (const [tool, input] of Object.entries(el.tools) as [Tool, HTMLInputElement][]) {
+    input.addEventListener("change", () => {
+      if (input.checked) actions.setTool(tool);
+    });
+  }
+  for (const [kind, { input, value }] of Object.entries(el.amounts) as [RegionKind, { input: HTMLInputElement; value: HTMLOutputElement }][]) {
+    const show = () => {
+      value.value = input.value;
+      actions.setAmount(kind, Number(input.value));
+    };
+    show();
+    input.addEventListener("input", show);
+  }
+  el.clearRegions.addEventListener("click", () => actions.clearRegions());
+
   el.wireframe.addEventListener("change", () => actions.showWireframe(el.wireframe.checked));
   el.pins.addEventListener("change", () => actions.showPins(el.pins.checked));
   el.reset.addEventListener("click", () => actions.resetPose());
-  el.export.addEventListener("click", () => actions.exportPNG());
+  el.export.addEventListener("click", () => actions.exportPNG(el.exportOverlays.checked));
 
   // Drag and drop anywhere on the page. dragenter/dragleave also fire for children, so
   // count them.

@@ -1,9 +1,9 @@
 // The Canvas 2D renderer, for browsers without WebGL2: the package's `Renderer` (its own
 // scan converter, in wasm on this thread) rasterises the textured mesh into a reused RGBA
-// buffer, which is put on the canvas.
+// buffer, which is put on the canvas; overlap depths go to it as `options.depth`.
 
 import init, { Renderer } from "../../pkg/bunraku.js";
-import type { PictureRenderer } from "./renderer.js";
+import { hasDepth, type PictureRenderer } from "./renderer.js";
 import type { Affine } from "./view.js";
 
 /** Loads the wasm module on this thread (the worker has its own instance) and makes the
@@ -21,6 +21,7 @@ export class CanvasRenderer implements PictureRenderer {
   private renderer: Renderer | null = null;
   private triangles: Uint32Array = new Uint32Array(0);
   private uvs: Float32Array = new Float32Array(0);
+  private depth: Float32Array | null = null;
   private out = new Uint8ClampedArray(0); // straight RGBA, width × height × 4
   private frame: ImageData | null = null; // wraps `out` (no copy)
 
@@ -41,6 +42,10 @@ export class CanvasRenderer implements PictureRenderer {
     this.uvs = uvs;
   }
 
+  setDepth(depth: Float32Array | null): void {
+    this.depth = hasDepth(depth) ? depth : null;
+  }
+
   resize(width: number, height: number): void {
     if (this.canvas.width !== width) this.canvas.width = width;
     if (this.canvas.height !== height) this.canvas.height = height;
@@ -56,7 +61,8 @@ export class CanvasRenderer implements PictureRenderer {
       this.ctx.clearRect(0, 0, width, height);
       return;
     }
-    this.renderer.renderInto(this.out, positions, this.triangles, this.uvs, width, height, { transform });
+    const depth = this.depth?.length === this.triangles.length / 3 ? this.depth : null;
+    this.renderer.renderInto(this.out, positions, this.triangles, this.uvs, width, height, depth ? { transform, depth } : { transform });
     this.ctx.putImageData(this.frame, 0, 0);
   }
 

@@ -3,9 +3,12 @@
 // new pose (the Float64Array the worker sent back → a reused Float32Array →
 // bufferSubData).
 // Shared vertices and one draw call leave no seams; the mesh extends a margin beyond the
-// opaque pixels, so the texture's own alpha draws the edge.
+// opaque pixels, so the texture's own alpha draws the edge. Overlap depths reorder the
+// index buffer (stably, once per change: renderer.ts's depthOrder), so that blending draws
+// the deeper part over the other with its anti-aliased edge, as the `Renderer` does; a
+// depth test would cut those edges.
 
-import type { PictureRenderer } from "./renderer.js";
+import { depthOrder, hasDepth, type PictureRenderer } from "./renderer.js";
 import type { Affine } from "./view.js";
 
 const VERTEX_SHADER = `#version 300 es
@@ -62,6 +65,7 @@ export class GLRenderer implements PictureRenderer {
   private pixels: ImageData | null = null;
   private triangles: Uint32Array = new Uint32Array(0);
   private uvs: Float32Array = new Float32Array(0);
+  private depth: Float32Array | null = null;
   private scratch = new Float32Array(0); // positions as float32, reused every frame
   private readonly toClip = new Float32Array(9);
   private mipmapped = false; // the texture's minification filter uses mipmaps
@@ -115,8 +119,23 @@ export class GLRenderer implements PictureRenderer {
     gl.bufferData(gl.ARRAY_BUFFER, this.scratch.byteLength, gl.DYNAMIC_DRAW);
     gl.bindBuffer(gl.ARRAY_BUFFER, res.uvs);
     gl.bufferData(gl.ARRAY_BUFFER, uvs, gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+    this.uploadIndices();
+  }
+
+  setDepth(depth: Float32Array | null): void {
+    this.depth = hasDepth(depth) ? depth : null;
+    this.uploadIndices();
+  }
+
+  /** The triangles in drawing order (by depth when there are depths). */
+  private uploadIndices(): void {
+    const { gl, res } = this;
+    if (!res) return;
+    gl.bindVertexArray(res.vao);
     gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, res.indices);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.STATIC_DRAW);
+    const ordered = this.depth?.length === this.triangles.length / 3;
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, ordered && this.depth ? depthOrder(this.triangles, this.depth) : this.triangles, gl.STATIC_DRAW);
     gl.bindVertexArray(null);
   }
 

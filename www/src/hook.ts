@@ -8,12 +8,38 @@
 import type { App } from "./app.js";
 import type { PuppetWorker } from "./client.js";
 import type { FrameRecord } from "./frames.js";
+import { anchorAt, follow } from "./locate.js";
+import { pictureFromURL } from "./picture.js";
+import type { Method, OverlapRegion, PinKind, StarchRegion } from "./protocol.js";
+
+/** A pin as the tests see it: its target (x, y, what a drag moves) and where its material
+ *  is drawn, in viewport CSS pixels; its kind and turn. */
+export interface HookPin {
+  id: number;
+  x: number;
+  y: number;
+  material: { x: number; y: number };
+  kind: PinKind;
+  angle: number;
+  scale: number;
+}
 
 export interface DemoHook {
   /** The renderer in use: "WebGL2" or "Canvas 2D". */
   readonly renderer: string;
-  /** The pins' targets, in viewport CSS pixels (for `page.mouse`). */
-  pins(): { id: number; x: number; y: number }[];
+  /** The pins, in viewport CSS pixels (for `page.mouse`). */
+  pins(): HookPin[];
+  /** The method of the puppet on screen. */
+  method(): Method | null;
+  /** Whether the pose on screen is the method's answer for its targets. */
+  converged(): boolean | null;
+  /** The starch and overlap regions the page holds. */
+  regions(): { starch: StarchRegion[]; overlap: OverlapRegion[] };
+  /** Where rest point (x, y) (picture pixels) is drawn now, in viewport CSS pixels, or
+   *  null when it is off the rest shape. */
+  follow(x: number, y: number): [number, number] | null;
+  /** Opens the picture at `url` pinned at `pins` (fractions of its width and height). */
+  open(url: string, name: string, pins: [number, number][]): Promise<boolean>;
   /** Picture pixels → viewport CSS pixels. */
   toClient(x: number, y: number): [number, number];
   picture(): { name: string; width: number; height: number } | null;
@@ -45,11 +71,23 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
   };
   window.bunrakuDemo = {
     renderer,
-    pins: () =>
-      (app.current?.rig.pins ?? []).map((p) => {
+    pins: () => {
+      const rig = app.current?.rig;
+      return (rig?.pins ?? []).map((p) => {
         const [x, y] = toClient(...p.target);
-        return { id: p.id, x, y };
-      }),
+        const [mx, my] = toClient(...(rig?.materialOf(p.id) ?? p.target));
+        return { id: p.id, x, y, material: { x: mx, y: my }, kind: p.kind, angle: p.angle, scale: p.scale };
+      });
+    },
+    method: () => app.method,
+    converged: () => app.current?.rig.converged ?? null,
+    regions: () => app.regions.lists(),
+    follow: (x, y) => {
+      const rig = app.current?.rig;
+      const anchor = rig && anchorAt(rig.rest, rig.triangles, x, y);
+      return rig && anchor ? toClient(...follow(rig.positions, rig.triangles, anchor)) : null;
+    },
+    open: (url, name, pins) => app.openPicture(pictureFromURL(url, name), pins),
     toClient,
     picture: () => {
       const c = app.current;

@@ -38,3 +38,57 @@ export function toRest(
   }
   return found;
 }
+
+/** A rest point held by the triangle that contains it: its index (`t`, into `triangles`
+ *  / 3) and barycentric weights, so that it can be followed on any pose in O(1). */
+export interface Anchor {
+  readonly t: number;
+  readonly w: readonly [number, number, number];
+}
+
+/** The anchor of rest point `(x, y)`, or null when it is off the rest shape. O(triangles). */
+export function anchorAt(rest: Float64Array, triangles: Uint32Array, x: number, y: number): Anchor | null {
+  for (let t = 0; t < triangles.length / 3; t++) {
+    const a = 2 * triangles[3 * t], b = 2 * triangles[3 * t + 1], c = 2 * triangles[3 * t + 2];
+    const bx = rest[b] - rest[a], by = rest[b + 1] - rest[a + 1];
+    const cx = rest[c] - rest[a], cy = rest[c + 1] - rest[a + 1];
+    const px = x - rest[a], py = y - rest[a + 1];
+    const det = bx * cy - by * cx;
+    if (det === 0) continue;
+    const u = (px * cy - py * cx) / det;
+    const v = (bx * py - by * px) / det;
+    if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9) continue;
+    return { t, w: [1 - u - v, u, v] };
+  }
+  return null;
+}
+
+/** Where `anchor` is on `positions`. */
+export function follow(positions: Float64Array, triangles: Uint32Array, { t, w }: Anchor): [number, number] {
+  const a = 2 * triangles[3 * t], b = 2 * triangles[3 * t + 1], c = 2 * triangles[3 * t + 2];
+  return [
+    w[0] * positions[a] + w[1] * positions[b] + w[2] * positions[c],
+    w[0] * positions[a + 1] + w[1] * positions[b + 1] + w[2] * positions[c + 1],
+  ];
+}
+
+/** How the pose turns and scales the shape at rest point `(x, y)`: the rotation angle
+ *  (radians, counter-clockwise in picture coordinates, in (−π, π]) and the scale (√det) of
+ *  the deformation gradient of the triangle that holds it; no turn off the shape. */
+export function turnAt(positions: Float64Array, rest: Float64Array, triangles: Uint32Array, x: number, y: number): { angle: number; scale: number } {
+  const anchor = anchorAt(rest, triangles, x, y);
+  if (!anchor) return { angle: 0, scale: 1 };
+  const t = anchor.t;
+  const a = 2 * triangles[3 * t], b = 2 * triangles[3 * t + 1], c = 2 * triangles[3 * t + 2];
+  // Rest edges E and posed edges P: the gradient F = P E⁻¹.
+  const e00 = rest[b] - rest[a], e10 = rest[b + 1] - rest[a + 1], e01 = rest[c] - rest[a], e11 = rest[c + 1] - rest[a + 1];
+  const p00 = positions[b] - positions[a], p10 = positions[b + 1] - positions[a + 1];
+  const p01 = positions[c] - positions[a], p11 = positions[c + 1] - positions[a + 1];
+  const det = e00 * e11 - e01 * e10;
+  const f00 = (p00 * e11 - p01 * e10) / det, f01 = (p01 * e00 - p00 * e01) / det;
+  const f10 = (p10 * e11 - p11 * e10) / det, f11 = (p11 * e00 - p10 * e01) / det;
+  // The closest rotation's angle, from the gradient's conformal part.
+  const angle = Math.atan2(f10 - f01, f00 + f11);
+  const scale = Math.sqrt(Math.max(f00 * f11 - f01 * f10, 1e-6));
+  return { angle, scale };
+}

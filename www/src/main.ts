@@ -9,7 +9,7 @@ import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
-import { METHODS } from "./protocol.js";
+import { METHODS, PIN_KINDS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
 import { Status } from "./status.js";
 
@@ -31,9 +31,13 @@ async function main(status: Status): Promise<void> {
   const stage = element("stage", HTMLCanvasElement);
   const wrap = element("stage-wrap", HTMLElement);
   const density = element("density", HTMLInputElement);
+  const methodSelect = element("method", HTMLSelectElement);
+  const pinKind = element("pin-kind", HTMLSelectElement);
   const query = new URLSearchParams(location.search);
   const choice = query.get("renderer") === "2d" ? "2d" : "auto";
-  const method = METHODS.find((m) => m === query.get("method"));
+  // ?method= chooses the first method (the selector shows it); the injective one else.
+  const method = METHODS.find((m) => m === query.get("method")) ?? "injective";
+  methodSelect.value = method;
   const renderer = await createRenderer(stage, choice, (lost) => app?.contextLost(lost));
   app = new App({
     stage,
@@ -45,6 +49,8 @@ async function main(status: Status): Promise<void> {
     method,
   });
   const theApp = app;
+  // What a reload kept of the form.
+  theApp.pinKind = PIN_KINDS.find((k) => k === pinKind.value) ?? "position";
 
   const measure = () => {
     const r = wrap.getBoundingClientRect();
@@ -59,10 +65,19 @@ async function main(status: Status): Promise<void> {
       file: element("file", HTMLInputElement),
       density,
       densityValue: element("density-value", HTMLOutputElement),
+      method: methodSelect,
+      pinKind,
+      tools: { pin: element("tool-pin", HTMLInputElement), starch: element("starch", HTMLInputElement), overlap: element("overlap", HTMLInputElement) },
+      amounts: {
+        starch: { input: element("starch-amount", HTMLInputElement), value: element("starch-amount-value", HTMLOutputElement) },
+        overlap: { input: element("overlap-depth", HTMLInputElement), value: element("overlap-depth-value", HTMLOutputElement) },
+      },
+      clearRegions: element("clear-regions", HTMLButtonElement),
       wireframe: element("wireframe", HTMLInputElement),
       pins: element("show-pins", HTMLInputElement),
       reset: element("reset", HTMLButtonElement),
       export: element("export", HTMLButtonElement),
+      exportOverlays: element("export-overlays", HTMLInputElement),
       dropZone: document.body,
     },
     {
@@ -71,12 +86,17 @@ async function main(status: Status): Promise<void> {
         void theApp.openPicture(pictureFromFile(file));
       },
       setDensity: (n) => theApp.setDensity(n),
+      setMethod: (m) => theApp.setMethod(m),
+      setPinKind: (kind) => (theApp.pinKind = kind),
+      setTool: (tool) => theApp.setTool(tool),
+      setAmount: (kind, value) => (theApp.amounts[kind] = value),
+      clearRegions: () => theApp.clearRegions(),
       showWireframe: (on) => theApp.showWireframe(on),
       showPins: (on) => theApp.showPins(on),
       resetPose: () => theApp.resetPose(),
-      exportPNG: () => {
+      exportPNG: (overlays) => {
         const name = theApp.current?.picture.name.replace(/\.[^.]*$/, "") ?? "bunraku";
-        theApp.exportPNG().then((blob) => download(blob, `${name}-posed.png`), (e) => status.error(e));
+        theApp.exportPNG(overlays).then((blob) => download(blob, `${name}-posed.png`), (e) => status.error(e));
       },
     },
   );
@@ -88,6 +108,7 @@ async function main(status: Status): Promise<void> {
 const status = new Status({
   pins: element("pin-count", HTMLElement),
   mesh: element("mesh-info", HTMLElement),
+  flips: element("flip-count", HTMLElement),
   solve: element("solve-time", HTMLElement),
   fps: element("fps", HTMLElement),
   renderer: element("renderer-name", HTMLElement),

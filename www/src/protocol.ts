@@ -18,13 +18,12 @@
 // update carries the version its targets belong to. The worker solves only for the
 // version it has compiled, so targets are never matched against the wrong handles.
 //
-// Where the coming features go: `method` in RegisterOptions; pin kinds and radius in
-// CompileBody; per-pin rotations in UpdateBody (one more array, like targets); lag,
-// converged and a flipped count in SolveStats (the page already keeps updating while
-// `converged` is false); `puppet.triangleDepth` beside the positions in UpdateResult or
-// in its own request; `setStarch` and `setOverlap` as one request each, like compile;
-// pose blending and recorded playback as requests of their own (a Blender per generation,
-// held like the puppets).
+// What else a generation holds: pin kinds and per-pin rotations ride along with the pins
+// (compile, update, and an open's pin plan, so that a remesh keeps them); starch and
+// overlap regions are requests of their own, like compile, and an open carries them too.
+// Updates answer with the pins' points on the result (where the material is) and the
+// iterative methods' lag and convergence; the flip count is its own request, asked for a
+// few times a second (it costs O(n)).
 
 /** Straight RGBA pixels, row by row from the top (ImageData's layout). */
 export interface PicturePixels {
@@ -36,6 +35,35 @@ export interface PicturePixels {
 export type Method = "two-step" | "nonlinear" | "injective";
 export const METHODS: readonly Method[] = ["two-step", "nonlinear", "injective"];
 
+/** What a pin holds (`compile`'s `kinds`): its point at a target ("position"), a rotation and
+ *  scale of the shape around it ("bend": its point follows the shape), or both ("advanced"). */
+export type PinKind = "position" | "bend" | "advanced";
+export const PIN_KINDS: readonly PinKind[] = ["position", "bend", "advanced"];
+
+/** A starch region (`puppet.setStarch`), in rest space. */
+export interface StarchRegion {
+  readonly at: readonly [number, number];
+  readonly amount: number;
+  readonly extent: number;
+}
+
+/** An overlap region (`puppet.setOverlap`), in rest space: larger depths are in front. */
+export interface OverlapRegion {
+  readonly at: readonly [number, number];
+  readonly depth: number;
+  readonly extent: number;
+}
+
+/** The pins of a set, in handle order: rest points `[x0, y0, …]`, one kind each, and
+ *  (for a set that is already posed) targets `[x0, y0, …]` and rotations
+ *  `[angle0, scale0, …]` (`puppet.update`'s). */
+export interface PinArrays {
+  readonly rests: Float64Array;
+  readonly kinds: readonly PinKind[];
+  readonly targets: Float64Array;
+  readonly rotations: Float64Array;
+}
+
 /** `Puppet.register`'s options. `method` is left out for the package's default (and for
  *  packages that have no such option). */
 export interface RegisterOptions {
@@ -45,9 +73,13 @@ export interface RegisterOptions {
 
 /** Where an opened picture's first pins go, in picture pixels. "at" falls back to
  *  automatic pins (with a warning) when they do not fit the new mesh. */
-export type PinPlan =
-  | { readonly kind: "auto" }
-  | { readonly kind: "at"; readonly rests: Float64Array; readonly targets: Float64Array };
+export type PinPlan = { readonly kind: "auto" } | ({ readonly kind: "at" } & PinArrays);
+
+/** A generation's starch and overlap regions. */
+export interface Regions {
+  readonly starch: readonly StarchRegion[];
+  readonly overlap: readonly OverlapRegion[];
+}
 
 export interface OpenBody {
   readonly generation: number;
@@ -58,6 +90,9 @@ export interface OpenBody {
   readonly pins: PinPlan;
   /** The version of the first pin set. */
   readonly version: number;
+  /** Starch and overlap to apply (a remesh keeps them); dropped, with a warning, when they
+   *  do not fit the new mesh. */
+  readonly regions: Regions;
 }
 
 export interface OpenResult {
@@ -70,15 +105,23 @@ export interface OpenResult {
   readonly uvs: Float32Array;
   /** Each edge once, `[a0, b0, …]`, for the wireframe. */
   readonly edges: Uint32Array;
-  /** The compiled pins, rest points and targets `[x0, y0, …]`, in handle order. */
-  readonly rests: Float64Array;
-  readonly targets: Float64Array;
+  /** The method the puppet was registered with (`puppet.method`). */
+  readonly method: Method;
+  /** The compiled pins, in handle order. */
+  readonly pins: PinArrays;
   /** "as planned", "automatically" (no plan, or the plan did not fit: see `warning`), or
    *  "none" (not even automatic pins fitted: see `warning`). */
   readonly pinned: "as planned" | "automatically" | "none";
   readonly warning: ErrorInfo | null;
-  /** The pose for `targets`: the first frame. */
+  /** The regions applied: the ones asked for, or none when they did not fit (then
+   *  `regionWarning` says why). */
+  readonly regions: Regions;
+  readonly regionWarning: ErrorInfo | null;
+  /** `puppet.triangleDepth`: one depth per triangle. */
+  readonly depth: Float32Array;
+  /** The pose for `targets`: the first frame, and the pins' points on it. */
   readonly positions: Float64Array;
+  readonly pinPositions: Float64Array;
   /** The times of each step, and the first update's stats (an iterative method may need
    *  more updates: `converged`). */
   readonly stats: { readonly meshMs: number; readonly registerMs: number; readonly compileMs: number } & SolveStats;
@@ -87,8 +130,9 @@ export interface OpenResult {
 export interface CompileBody {
   readonly generation: number;
   readonly version: number;
-  /** Rest points `[x0, y0, …]`. (Coming: `kinds` and `radius`, compile's options.) */
+  /** Rest points `[x0, y0, …]`, and one kind per pin. */
   readonly handles: Float64Array;
+  readonly kinds: readonly PinKind[];
 }
 
 export interface CompileResult {
@@ -100,29 +144,60 @@ export interface CompileResult {
 export interface UpdateBody {
   readonly generation: number;
   readonly version: number;
-  /** One `[x, y]` per handle, in the compiled order. (Coming: per-pin `rotations`.) */
+  /** One `[x, y]` per handle, in the compiled order, and one `[angle, scale]` (ignored
+   *  for position pins). */
   readonly targets: Float64Array;
+  readonly rotations: Float64Array;
   /** Where the positions go, `2 × vertexCount` long: transferred to the worker and back
    *  in the result, so the two buffers the page alternates between are never copied. */
   readonly out: Float64Array;
 }
 
-/** What one update reports. The optional fields come with the library's iterative
- *  methods; the worker forwards them as soon as the puppet has them. */
+/** What one update reports. */
 export interface SolveStats {
   /** Puppet.updateInto, measured in the worker (ms). */
   readonly solveMs: number;
-  /** False while an iterative method has not converged: the page keeps updating. */
-  readonly converged?: boolean;
-  readonly lag?: number;
+  /** False while the injective method has not converged: the page keeps updating. */
+  readonly converged: boolean;
+  /** The largest distance between a pin's point on the result and its target. */
+  readonly lag: number;
 }
 
 export interface UpdateResult {
   readonly generation: number;
   readonly version: number;
-  /** `body.out`, filled. */
+  /** `body.out`, filled, and the pins' points on it (`puppet.pinPositions`). */
   readonly positions: Float64Array;
+  readonly pinPositions: Float64Array;
   readonly stats: SolveStats;
+}
+
+export interface StarchBody {
+  readonly generation: number;
+  readonly regions: readonly StarchRegion[];
+}
+
+export interface OverlapBody {
+  readonly generation: number;
+  readonly regions: readonly OverlapRegion[];
+}
+
+export interface OverlapResult {
+  readonly generation: number;
+  /** `puppet.triangleDepth`. */
+  readonly depth: Float32Array;
+}
+
+export interface QualityBody {
+  readonly generation: number;
+}
+
+export interface QualityResult {
+  readonly generation: number;
+  /** Of the current positions (`puppet.quality()`): flipped triangles, and interior
+   *  vertices whose one-ring winds other than once. */
+  readonly flipped: number;
+  readonly windingDefects: number;
 }
 
 export interface ReleaseBody {
@@ -135,9 +210,6 @@ export interface ResetBody {
 
 export interface ResetResult {
   readonly generation: number;
-  /** Whether the puppet has `reset()` (the library's iterative methods warm-start from
-   *  the previous pose; without it the next update starts from there). */
-  readonly reset: boolean;
 }
 
 /** Each request's body and its result. */
@@ -153,6 +225,12 @@ export interface Calls {
   /** Forgets the pose the next update would start from (`puppet.reset()`), so that the
    *  rest targets give the rest shape again. */
   reset: { body: ResetBody; result: ResetResult };
+  /** Replaces the starch regions (a numeric refactorisation; the next update shows it). */
+  starch: { body: StarchBody; result: { readonly generation: number } };
+  /** Replaces the overlap regions; answers with the triangles' new depths. */
+  overlap: { body: OverlapBody; result: OverlapResult };
+  /** The current positions' flip count. */
+  quality: { body: QualityBody; result: QualityResult };
   /** Test builds only: throws what a wasm trap throws, so that the page's recovery can be
    *  tested; production workers drop it. */
   crash: { body: null; result: null };

@@ -6,6 +6,21 @@ import type { Affine } from "./view.js";
 import { createGLRenderer } from "./gl.js";
 import { createCanvasRenderer } from "./fallback.js";
 
+/** The triangles of `triangles` in drawing order for `depth`: sorted by depth, ascending,
+ *  ties in mesh order (a stable sort: nothing flickers) — the `Renderer`'s own order. */
+export function depthOrder(triangles: Uint32Array, depth: Float32Array): Uint32Array {
+  const m = triangles.length / 3;
+  const order = Array.from({ length: m }, (_, t) => t).sort((a, b) => depth[a] - depth[b] || a - b);
+  const sorted = new Uint32Array(triangles.length);
+  order.forEach((t, k) => sorted.set(triangles.subarray(3 * t, 3 * t + 3), 3 * k));
+  return sorted;
+}
+
+/** Whether `depth` orders anything: some triangle's depth differs from another's. */
+export function hasDepth(depth: Float32Array | null): depth is Float32Array {
+  return depth !== null && depth.some((d) => d !== depth[0]);
+}
+
 export interface PictureRenderer {
   /** "WebGL2" or "Canvas 2D", shown on the page. */
   readonly name: string;
@@ -13,6 +28,10 @@ export interface PictureRenderer {
   setPicture(pixels: ImageData): void;
   /** The mesh: triangles `[a0, b0, c0, …]` and one `[u, v]` per vertex. */
   setMesh(triangles: Uint32Array, uvs: Float32Array): void;
+  /** The triangles' depths (`puppet.triangleDepth`, one each), or null for none: where
+   *  the mesh overlaps itself, larger depths are drawn in front; equal depths (and no
+   *  depths at all) in triangle order, the later one in front. */
+  setDepth(depth: Float32Array | null): void;
   /** Sizes the canvas's drawing buffer, in device pixels. */
   resize(width: number, height: number): void;
   /** Draws the mesh at `positions` (`[x0, y0, …]`, picture pixels) mapped by `transform`

@@ -1,5 +1,6 @@
-// What the page tells the user: pin count, mesh size, renderer, the worker's solve time and
-// the frame rate (refreshed a few times a second, not every frame), and messages — errors
+// What the page tells the user: pin count, mesh size, flipped triangles, renderer, the
+// worker's solve time and the frame rate (refreshed a few times a second, not every
+// frame), and messages — errors
 // included (the library's, sent back by the worker, too), so that nothing thrown ends up
 // as an uncaught exception.
 
@@ -8,6 +9,7 @@ const REFRESH_MS = 250;
 export interface StatusElements {
   pins: HTMLElement;
   mesh: HTMLElement;
+  flips: HTMLElement;
   solve: HTMLElement;
   fps: HTMLElement;
   renderer: HTMLElement;
@@ -45,6 +47,14 @@ export class Status {
     this.el.mesh.textContent = `${name}: ${vertices} vertices, ${triangles} triangles`;
     this.el.mesh.dataset.vertices = String(vertices);
     this.el.mesh.dataset.triangles = String(triangles);
+  }
+
+  /** The pose's flipped triangles and winding defects (`puppet.quality()`). */
+  flips(flipped: number, windingDefects: number): void {
+    this.el.flips.textContent = windingDefects > 0 ? `${flipped} (${windingDefects} folded vertices)` : String(flipped);
+    this.el.flips.dataset.flipped = String(flipped);
+    this.el.flips.dataset.windingDefects = String(windingDefects);
+    this.el.flips.dataset.kind = flipped > 0 || windingDefects > 0 ? "bad" : "ok";
   }
 
   renderer(name: string): void {

@@ -18,6 +18,8 @@ import {
   type Kind,
   type OpenBody,
   type OpenResult,
+  type PinArrays,
+  type Regions,
   type Reply,
   type Request,
   type SolveStats,
@@ -133,15 +135,31 @@ function own<T extends Float64Array | Float32Array | Uint32Array>(array: T): T {
   return whole ? array : (array.slice() as T);
 }
 
-/** The optional per-update results of the library's iterative methods, when this
- *  puppet has them (read as plain properties: older packages simply lack them). */
-function extraStats(puppet: Puppet): Omit<SolveStats, "solveMs"> {
-  const converged: unknown = Reflect.get(puppet, "converged");
-  const lag: unknown = Reflect.get(puppet, "lag");
-  return {
-    ...(typeof converged === "boolean" ? { converged } : {}),
-    ...(typeof lag === "number" ? { lag } : {}),
-  };
+function stats(puppet: Puppet, solveMs: number): SolveStats {
+  return { solveMs, converged: puppet.converged, lag: puppet.lag };
+}
+
+/** Compiles `pins` on `puppet` (throws a library error, the previous set kept). */
+function compilePins(puppet: Puppet, pins: Pick<PinArrays, "rests" | "kinds">): void {
+  puppet.compile(pins.rests, { kinds: [...pins.kinds] });
+}
+
+/** Applies `regions` (both kinds, or neither: a failure leaves the puppet without any). */
+function applyRegions(puppet: Puppet, regions: Regions): ErrorInfo | null {
+  const failed = attempt(() => {
+    puppet.setStarch(regions.starch.map(copyRegion));
+    puppet.setOverlap(regions.overlap.map(copyRegion));
+  });
+  if (failed) {
+    puppet.setStarch([]);
+    puppet.setOverlap([]);
+  }
+  return failed;
+}
+
+/** A region as the library takes it (a mutable `at`). */
+function copyRegion<R extends { readonly at: readonly [number, number] }>(region: R): R & { at: [number, number] } {
+  return { ...region, at: [region.at[0], region.at[1]] };
 }
 
 function open(body: OpenBody): Outcome<OpenResult> {
@@ -167,30 +185,33 @@ function open(body: OpenBody): Outcome<OpenResult> {
     const triangles = own(puppet.triangles);
     t0 = performance.now();
     let pinned: OpenResult["pinned"] = "as planned";
-    let rests = new Float64Array(0);
-    let targets = new Float64Array(0);
+    const none: PinArrays = { rests: new Float64Array(0), kinds: [], targets: new Float64Array(0), rotations: new Float64Array(0) };
+    let pins = none;
     let warning: ErrorInfo | null = null;
     if (body.pins.kind === "at") {
       const plan = body.pins;
-      warning = attempt(() => puppet.compile(plan.rests));
-      if (!warning) [rests, targets] = [plan.rests.slice(), plan.targets.slice()];
+      warning = attempt(() => compilePins(puppet, plan));
+      if (!warning) pins = { rests: plan.rests.slice(), kinds: [...plan.kinds], targets: plan.targets.slice(), rotations: plan.rotations.slice() };
     }
     if (body.pins.kind === "auto" || warning) {
       pinned = "automatically";
       const auto = Float64Array.from(autoPins(rest, triangles).flat());
-      const failed = attempt(() => puppet.compile(auto));
+      const kinds = Array.from({ length: auto.length / 2 }, () => "position" as const);
+      const failed = attempt(() => compilePins(puppet, { rests: auto, kinds }));
       if (failed) {
         pinned = "none";
         warning ??= failed;
         puppet.compile(new Float64Array(0));
       } else {
-        [rests, targets] = [auto, auto.slice()];
+        pins = { rests: auto, kinds, targets: auto.slice(), rotations: Float64Array.from(kinds.flatMap(() => [0, 1])) };
       }
     }
+    const regionWarning = applyRegions(puppet, body.regions);
+    const regions: Regions = regionWarning ? { starch: [], overlap: [] } : body.regions;
     const compileMs = performance.now() - t0;
     const positions = new Float64Array(rest.length);
     t0 = performance.now();
-    puppet.updateInto(targets, positions);
+    puppet.updateInto(pins.targets, positions, pins.rotations);
     const solveMs = performance.now() - t0;
     const edges = meshEdges(triangles);
     held.get(body.generation)?.puppet.free();
@@ -202,14 +223,18 @@ function open(body: OpenBody): Outcome<OpenResult> {
       triangles,
       uvs,
       edges,
-      rests,
-      targets,
+      method: puppet.method,
+      pins,
       pinned,
       warning,
+      regions,
+      regionWarning,
+      depth: own(puppet.triangleDepth),
       positions,
-      stats: { meshMs, registerMs, compileMs, solveMs, ...extraStats(puppet) },
+      pinPositions: own(puppet.pinPositions),
+      stats: { meshMs, registerMs, compileMs, ...stats(puppet, solveMs) },
     };
-    return { result, transfer: [rest.buffer, triangles.buffer, uvs.buffer, edges.buffer, rests.buffer, targets.buffer, positions.buffer] };
+    return { result, transfer: [rest.buffer, triangles.buffer, uvs.buffer, edges.buffer, positions.buffer] };
   } catch (e) {
     puppet.free();
     throw e;
@@ -219,32 +244,53 @@ function open(body: OpenBody): Outcome<OpenResult> {
 const handlers: Handlers = {
   open,
 
-  compile({ generation, version, handles }) {
+  compile({ generation, version, handles, kinds }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     const t0 = performance.now();
-    rig.puppet.compile(handles); // on error the previous set stays compiled, and its version
+    compilePins(rig.puppet, { rests: handles, kinds }); // on error the previous set stays compiled, and its version
     rig.version = version;
     return { result: { generation, version, compileMs: performance.now() - t0 }, transfer: [] };
   },
 
-  update({ generation, version, targets, out }) {
+  update({ generation, version, targets, rotations, out }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     if (rig.version !== version) return { dropped: `pin set ${version} is not compiled (${rig.version} is)` };
     const t0 = performance.now();
-    rig.puppet.updateInto(targets, out);
-    const stats: SolveStats = { solveMs: performance.now() - t0, ...extraStats(rig.puppet) };
-    return { result: { generation, version, positions: out, stats }, transfer: [out.buffer] };
+    rig.puppet.updateInto(targets, out, rotations);
+    const solveMs = performance.now() - t0;
+    const pinPositions = own(rig.puppet.pinPositions);
+    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs) }, transfer: [out.buffer, pinPositions.buffer] };
   },
 
   reset({ generation }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
-    // Read as a plain property: packages before the iterative methods have no reset.
-    const reset: unknown = Reflect.get(rig.puppet, "reset");
-    if (typeof reset === "function") reset.call(rig.puppet);
-    return { result: { generation, reset: typeof reset === "function" }, transfer: [] };
+    rig.puppet.reset();
+    return { result: { generation }, transfer: [] };
+  },
+
+  starch({ generation, regions }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    rig.puppet.setStarch(regions.map(copyRegion)); // on error the starch stays as it was
+    return { result: { generation }, transfer: [] };
+  },
+
+  overlap({ generation, regions }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    rig.puppet.setOverlap(regions.map(copyRegion));
+    const depth = own(rig.puppet.triangleDepth);
+    return { result: { generation, depth }, transfer: [depth.buffer] };
+  },
+
+  quality({ generation }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    const { flipped, windingDefects } = rig.puppet.quality();
+    return { result: { generation, flipped, windingDefects }, transfer: [] };
   },
 
   release({ generation }) {
