@@ -2,6 +2,7 @@
 //! describes it. Reading checks the header (`format`, `version`) first, then the fields'
 //! types; [`super::Player::new`] checks the values.
 
+#[cfg(not(target_arch = "wasm32"))]
 use serde::{Deserialize, Serialize};
 
 use super::{fault, fault_at, DocumentFault};
@@ -17,8 +18,9 @@ pub const VERSION: u32 = 1;
 /// Optional fields are `None` when absent and are then not written, so a document read
 /// and written again has the same fields with the same numbers, bit for bit (JSON's
 /// shortest round-trip form of every `f64`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct Document {
     /// Always [`FORMAT`], `"bunraku-puppet"`.
@@ -26,96 +28,102 @@ pub struct Document {
     /// Always [`VERSION`], 1.
     pub version: u32,
     /// The picture the mesh's `uvs` refer to.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub picture: Option<PictureJson>,
     /// How the mesh was made (a record: playback never meshes).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub meshing: Option<MeshingJson>,
     /// The rest mesh itself.
     pub mesh: MeshJson,
     /// The deformation method and its options (pin tracks).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub puppet: Option<PuppetJson>,
     /// The pins a track drives.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub pins: Option<PinsJson>,
     /// Stiffer regions (pin tracks).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub starch: Option<Vec<StarchJson>>,
     /// Regions drawn in front: each triangle's depth.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub overlap: Option<Vec<OverlapJson>>,
     /// The blender's options (weight tracks).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub blend: Option<BlendJson>,
     /// Poses of the mesh, blended along the weight track.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub poses: Option<Vec<PoseJson>>,
     /// The pins' recorded motion.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub track: Option<TrackJson>,
     /// The poses' weights over time.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub weights: Option<WeightsJson>,
     /// Which animation plays: `"track"` or `"weights"`; default the one present (the track
     /// when both are).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub play: Option<String>,
     /// Whether playback repeats every `duration` seconds. Default `false`.
-    #[serde(default, skip_serializing_if = "Option::is_none", rename = "loop")]
+    #[cfg_attr(
+        not(target_arch = "wasm32"),
+        serde(default, skip_serializing_if = "Option::is_none", rename = "loop")
+    )]
     pub looping: Option<bool>,
     /// Seconds, ≥ 0. Default: the played animation's last sample time.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub duration: Option<f64>,
 }
 
 /// The picture: where it is and its size.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct PictureJson {
     /// A URL, relative to the document's own, or a `data:` URL embedding the picture.
     pub url: String,
     /// Its width in pixels.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub width: Option<u32>,
     /// Its height in pixels.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub height: Option<u32>,
 }
 
 /// How the mesh was made: `Mesh.fromImage`'s or `Mesh.fromOutline`'s options.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct MeshingJson {
     /// `"image"`, `"outline"`, `"obj"` or anything else.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub from: Option<String>,
     /// Target edge length.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub spacing: Option<f64>,
     /// Smallest angle, degrees.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub min_angle: Option<f64>,
     /// At most this many vertices.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub max_vertices: Option<f64>,
     /// Alpha threshold (pictures).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub alpha_threshold: Option<f64>,
     /// Margin in pixels (pictures).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub margin: Option<f64>,
     /// Contour tolerance (pictures).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub simplify: Option<f64>,
     /// Smallest region kept (pictures).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub min_area: Option<f64>,
 }
 
 /// The rest mesh, flat like the typed arrays of the API.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct MeshJson {
     /// `[x0, y0, x1, y1, …]`.
@@ -123,74 +131,78 @@ pub struct MeshJson {
     /// `[a0, b0, c0, …]`, vertex indices.
     pub triangles: Vec<u32>,
     /// `[u0, v0, …]`, one pair per vertex (default: normalised by the bounding box).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub uvs: Option<Vec<f64>>,
 }
 
 /// `Puppet.register`'s method and options.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct PuppetJson {
     /// `"injective"` (default), `"two-step"` or `"nonlinear"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub method: Option<String>,
     /// `"uniform"` (default) or `"cotangent"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub weights: Option<String>,
     /// Default 1000.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub handle_weight: Option<f64>,
     /// Nonlinear iterations; default 4.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub iterations: Option<u32>,
     /// Nonlinear area preservation; default `false`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub preserve_area: Option<bool>,
     /// Nonlinear term weights.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub term_weights: Option<TermWeightsJson>,
     /// Injective: back-substitutions per update (the Player's counted budget); default
     /// [`super::INJECTIVE_SOLVES`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub max_solves: Option<u32>,
     /// Two-step and nonlinear regularisation; default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub regularization: Option<f64>,
 }
 
 /// The nonlinear method's term weights.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct TermWeightsJson {
     /// Default 1.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub laplacian: Option<f64>,
     /// Default 1.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub mean_value: Option<f64>,
     /// Default 1.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub edge_length: Option<f64>,
 }
 
 /// The pins: rest-space points, kinds and radii.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct PinsJson {
     /// `[x0, y0, …]`, rest-space points on the shape.
     pub points: Vec<f64>,
     /// One kind per pin; default the track's kinds, else `"position"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub kinds: Option<Vec<String>>,
     /// One radius per pin, rest units, ≥ 0; default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub radius: Option<Vec<f64>>,
 }
 
 /// A starch region (`Puppet.setStarch`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct StarchJson {
     /// Its centre, a rest-space point.
@@ -202,7 +214,8 @@ pub struct StarchJson {
 }
 
 /// An overlap region (`Puppet.setOverlap`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct OverlapJson {
     /// Its centre, a rest-space point.
@@ -214,40 +227,43 @@ pub struct OverlapJson {
 }
 
 /// `Blender.register`'s options.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct BlendJson {
     /// `E_S` iterations per blend; default 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub iterations: Option<u32>,
 }
 
 /// A pose: one position per vertex, and how its turns are counted (`Blender.addPose`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct PoseJson {
     /// `[x0, y0, …]`, one point per vertex.
     pub positions: Vec<f64>,
     /// Radians: count turns nearest this angle.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub near_angle: Option<f64>,
     /// An earlier pose: count turns nearest it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub near_pose: Option<u32>,
     /// `"reject"` (default) or `"clamp"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub flipped: Option<String>,
 }
 
 /// A [`super::Track`] as JSON data.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct TrackJson {
     /// The number of pins.
     pub pins: usize,
     /// One kind per pin; default every pin `"position"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub kinds: Option<Vec<String>>,
     /// Seconds, strictly increasing.
     pub times: Vec<f64>,
@@ -255,12 +271,13 @@ pub struct TrackJson {
     pub targets: Vec<f64>,
     /// Per sample, per pin, `[angle, scale]` (radians, counter-clockwise, unwrapped; the
     /// scale 1 at rest); default every pin `[0, 1]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub rotations: Option<Vec<f64>>,
 }
 
 /// The poses' weights over time.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
 pub struct WeightsJson {
     /// Seconds, strictly increasing.

@@ -27,6 +27,11 @@ pub use document::{
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
 pub use track::{Track, TrackOptions};
 
+#[cfg(target_arch = "wasm32")]
+pub(crate) use document::check_header;
+#[cfg(target_arch = "wasm32")]
+pub(crate) use track::parse_kind;
+
 use crate::error::{Error, Result};
 
 /// What is wrong with a puppet document or a track's JSON ([`Error::BadDocument`]), which

@@ -434,7 +434,7 @@ fn blend(mesh: &Mesh, d: &Document, json: &WeightsJson) -> Result<Blended> {
     check_values("weights.values", &json.values, poses.len() * json.times.len())?;
     if let Some(i) = json.values.iter().position(|w| w.abs() > crate::blend::MAX_WEIGHT) {
         let field = format!("weights.values[{i}]");
-        return Err(fault_at(DocumentFault::Structure, field, json.values[i], "is beyond ±1e6"));
+        return Err(fault_at(DocumentFault::Structure, field, json.values[i], "is beyond ±1000000"));
     }
     Ok(Blended {
         blender,

@@ -320,7 +320,7 @@ impl Track {
             super::check_values(&format!("{path}.rotations"), r, 2 * n * samples)?;
             if let Some(k) = r.iter().skip(1).step_by(2).position(|&s| !(1e-6..=1e6).contains(&s)) {
                 let field = format!("{path}.rotations[{}]", 2 * k + 1);
-                let reason = "is not a scale in [1e-6, 1e6]";
+                let reason = "is not a scale in [0.000001, 1000000]";
                 return Err(super::fault_at(DocumentFault::Structure, field, r[2 * k + 1], reason));
             }
         }

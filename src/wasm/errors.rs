@@ -25,7 +25,8 @@ export type ErrorCode =
   | "handle-outside" | "bad-handle" | "coincident-handles" | "factorization-failed"
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
-  | "point-outside" | "overlapping-pins";
+  | "point-outside" | "overlapping-pins"
+  | "bad-time" | "empty-track" | "bad-document" | "bad-version";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -84,6 +85,11 @@ export interface BunrakuError extends Error {
   count?: number;
   /** `bad-pose`: how many poses the blender has. */
   poseCount?: number;
+  /** `bad-document`, `bad-version`, and `bad-length` or `non-finite` inside a puppet document or a
+   *  track's JSON: the field's path (`"poses[1].positions"`, `"track.times[3]"`; `""` for the whole
+   *  document). Its offending number, when there is one, is `value` (`bad-version`: the version;
+   *  `bad-time`: the time). */
+  field?: string;
 }
 "#;
 
@@ -217,6 +223,14 @@ impl From<Error> for Thrown {
             Error::BadObj { line, .. } if line > 0 => t.with("line", line),
             Error::FlippedTriangles { count, first } => t.with("count", count).with("triangle", first),
             Error::BadPose { index, pose_count } => t.with("index", index).with("poseCount", pose_count),
+            Error::BadDocument { field, value, .. } => {
+                let t = t.with("field", field);
+                match value {
+                    Some(x) => t.with("value", x),
+                    None => t,
+                }
+            }
+            Error::BadTime { time, .. } => t.with("value", time),
             Error::BadWeight { index, value, limit } => {
                 let t = t.with("index", index).with("value", value);
                 if value.is_finite() {

@@ -5,6 +5,7 @@
 //! | module | what |
 //! |---|---|
 //! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
+//! | `animation` | `Track` (recorded pin motion) and `Player` (puppet documents) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
 //! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
 //! | `render` | `Renderer`: textured meshes into RGBA pixels |
@@ -23,6 +24,7 @@
 //! A failed call leaves every object as it was: inputs are read and checked before any
 //! state changes.
 
+mod animation;
 mod blend;
 mod errors;
 mod flatten;
@@ -32,6 +34,7 @@ mod pins;
 mod puppet;
 mod render;
 
+pub use animation::{JsPlayer, JsTrack};
 pub use blend::JsBlender;
 pub use errors::Thrown;
 pub use flatten::{flatten_surface, surface_from_obj};

@@ -5,7 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Blender, Mesh, Puppet, Renderer, flatten, surfaceFromOBJ } from "../../pkg/bunraku.js";
+import { initSync, Blender, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "../../pkg/bunraku.js";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -295,6 +295,36 @@ code("bad-pose", () => {
   throws(() => blender.addPose(v, { nearPose: -2 }), "bad-pose", { index: -2, poseCount: 1 });
   assert.equal(blender.poseCount, 1);
   blender.free();
+});
+
+/** A puppet document of the 3 × 3 grid with no animation (tests/node/animation.test.mjs has more). */
+const stillDocument = () => ({ format: "bunraku-puppet", version: 1, mesh: { vertices: [...v], triangles: [...t] } });
+
+code("bad-time", () => {
+  const track = new Track(1);
+  track.record(2, new Float64Array([0, 0]));
+  throws(() => track.record(1, new Float64Array([1, 1])), "bad-time", { value: 1 }, /^time 1 is earlier than the last recorded time$/);
+  throws(() => track.record(Infinity, new Float64Array([1, 1])), "bad-time", { value: Infinity }, /^time Infinity is not finite$/);
+  assert.equal(track.sampleCount, 1);
+  track.free();
+});
+
+code("empty-track", () => {
+  const track = new Track(1);
+  throws(() => track.sampleInto(0, new Float64Array(2)), "empty-track", {}, /^the track has no sample$/);
+  track.free();
+});
+
+code("bad-document", () => {
+  throws(() => Player.load({ ...stillDocument(), format: "lottie" }), "bad-document", { field: "format" }, /^puppet document: format: "lottie" is not "bunraku-puppet"$/);
+  throws(() => Player.load({ format: "bunraku-puppet", version: 1 }), "bad-document", {}, /mesh/);
+  const player = Player.load(stillDocument());
+  assert.equal(player.mode, "still");
+  player.free();
+});
+
+code("bad-version", () => {
+  throws(() => Player.load({ ...stillDocument(), version: 2 }), "bad-version", { field: "version", value: 2 }, /^puppet document: version: 2 is not a version this library reads \(it reads version 1\)$/);
 });
 
 test("every ErrorCode of the declarations is tested above (or cannot be triggered)", () => {

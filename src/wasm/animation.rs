@@ -1,0 +1,793 @@
+//! `Track` (recorded pin motion) and `Player` (a puppet document played at any time): thin
+//! wrappers over [`crate::animation`]. JSON is parsed and written by the JavaScript
+//! engine; documents are read into the core's types field by field with `Reflect`
+//! (serde's derived code for a dozen structs would add tens of kilobytes to the .wasm).
+
+use js_sys::{Array, Float32Array, Float64Array, Object, Reflect, Uint32Array};
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+
+use super::errors::{bad_option, bad_type, describe, number};
+use super::options::Fields as OptionFields;
+use super::{flat, read_exact, typed, Thrown, TypedArray};
+use crate::animation::{
+    self, BlendJson, Document, DocumentFault, MeshJson, MeshingJson, Mode, OverlapJson, PictureJson,
+    PinsJson, PoseJson, PuppetJson, StarchJson, TermWeightsJson, Track, TrackJson, TrackOptions, WeightsJson,
+};
+use crate::{Error, PinKind, Rotation};
+
+#[wasm_bindgen(typescript_custom_section)]
+const ANIMATION_TS: &str = r#"
+/** Options of `new Track(pinCount, options)`. */
+export interface TrackOptions {
+  /** One kind per pin, in the pins' order. Default: every pin `"position"`. */
+  kinds?: PinKind[];
+  /** A time constant in seconds (≥ 0): each recorded value moves `1 − e^(−Δt / smoothing)` of the way
+   *  to the raw one (an exponential low-pass filter, the same at any recording rate; it lags about
+   *  `smoothing` behind a fast drag). Default 0 (raw). */
+  smoothing?: number;
+  /** How much faster playback runs than the recording (> 0): 2 plays a 4-second drag in 2 seconds.
+   *  Default 1. */
+  speed?: number;
+  /** The track time of the first recorded sample, in seconds. Default 0. */
+  start?: number;
+  /** Move each recorded angle by whole turns to within half a turn of the pin's previous one, so that
+   *  angles from `Math.atan2` record a continuous turn. Default `true`. */
+  unwrap?: boolean;
+}
+
+/** A `Track` as JSON data (`track.toJSON()`, `Track.fromJSON`, a document's `track`). */
+export interface TrackJSON {
+  /** The number of pins. */
+  pins: number;
+  /** One kind per pin. Default: every pin `"position"`. */
+  kinds?: PinKind[];
+  /** Seconds, strictly increasing. */
+  times: number[];
+  /** Per sample, per pin, `x, y`: `2 · pins · times.length` numbers. */
+  targets: number[];
+  /** Per sample, per pin, `angle, scale` (radians counter-clockwise, unwrapped; scale 1 at rest).
+   *  Default: every pin `0, 1`. */
+  rotations?: number[];
+}
+
+/** The poses' weights over time (a document's `weights`). */
+export interface WeightsJSON {
+  /** Seconds, strictly increasing. */
+  times: number[];
+  /** Per sample, one weight per pose: `poses.length · times.length` numbers (any reals: outside
+   *  [0, 1] extrapolates; the rest shape weighs 1 − Σ weights). */
+  values: number[];
+}
+
+/** A puppet document, version 1: every field is described in docs/puppet-document.md. */
+export interface PuppetDocument {
+  format: "bunraku-puppet";
+  version: 1;
+  /** The picture the `uvs` refer to: a URL relative to the document, or a `data:` URL. */
+  picture?: { url: string; width?: number; height?: number };
+  /** How the mesh was made (a record; playback never meshes). */
+  meshing?: { from?: string; spacing?: number; minAngle?: number; maxVertices?: number;
+              alphaThreshold?: number; margin?: number; simplify?: number; minArea?: number };
+  /** The rest mesh, flat: `[x0, y0, …]`, `[a0, b0, c0, …]`, `[u0, v0, …]`. */
+  mesh: { vertices: number[]; triangles: number[]; uvs?: number[] };
+  /** The method and `Puppet.register`'s options that pin tracks play with. */
+  puppet?: { method?: Method; weights?: EdgeWeights; handleWeight?: number; iterations?: number;
+             preserveArea?: boolean; termWeights?: TermWeights; maxSolves?: number; regularization?: number };
+  /** The pins the track drives: rest-space points, kinds, radii. */
+  pins?: { points: number[]; kinds?: PinKind[]; radius?: number[] };
+  /** Starch regions (pin tracks). */
+  starch?: { at: [number, number]; amount: number; extent: number }[];
+  /** Overlap regions: `player.triangleDepth`. */
+  overlap?: { at: [number, number]; depth: number; extent: number }[];
+  /** `Blender.register`'s options (weight tracks). */
+  blend?: { iterations?: number };
+  /** Poses of the mesh, one position per vertex each, with `Blender.addPose`'s options. */
+  poses?: { positions: number[]; nearAngle?: number; nearPose?: number; flipped?: FlippedTriangles }[];
+  /** The pins' recorded motion. */
+  track?: TrackJSON;
+  /** The poses' weights over time. */
+  weights?: WeightsJSON;
+  /** Which animation plays. Default: the track when there is one, else the weights. */
+  play?: "track" | "weights";
+  /** Repeat every `duration` seconds. Default `false`. */
+  loop?: boolean;
+  /** Seconds. Default: the played animation's last sample time. */
+  duration?: number;
+}
+
+/** What a `Player` plays: `"track"` (pins driven through the document's method), `"weights"` (poses
+ *  blended), `"still"` (neither: the rest shape). */
+export type PlayMode = "track" | "weights" | "still";
+"#;
+
+/// Time-stamped targets and rotations of a fixed set of pins, recorded while the user drags
+/// (After Effects' Record) and played back at any frame rate.
+///
+/// ```js
+/// const track = new Track(3, { kinds: ["position", "bend", "position"], smoothing: 0.03 });
+/// // every pointer frame, while dragging:
+/// track.record(performance.now() / 1000, targets, rotations);
+/// // playback, any frame rate: exact at the samples, linear between (no allocation)
+/// track.sampleInto(t, targetsOut, rotationsOut);
+/// const json = JSON.stringify(track);          // track.toJSON(); Track.fromJSON(json)
+/// ```
+#[wasm_bindgen(js_name = Track)]
+pub struct JsTrack {
+    track: Track,
+    targets: Vec<[f64; 2]>,
+    rotations: Vec<Rotation>,
+    flat: Vec<f64>,
+}
+
+#[wasm_bindgen(js_class = Track)]
+impl JsTrack {
+    /// An empty track of `pinCount` pins (a whole number); `options`: `TrackOptions`.
+    /// Throws `bad-type`, `bad-option` or `bad-length` (`kinds` of the wrong length).
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        #[wasm_bindgen(js_name = pinCount, unchecked_param_type = "number")] pin_count: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "TrackOptions")] options: JsValue,
+    ) -> Result<JsTrack, Thrown> {
+        let n = pin_count.as_f64().ok_or_else(|| bad_type("pinCount", "a number", &pin_count))?;
+        if !(n >= 0.0 && n.fract() == 0.0 && n <= 1e6) {
+            return Err(bad_option(
+                "pinCount",
+                &pin_count,
+                &format!("{} is not a whole number of pins", number(n)),
+            ));
+        }
+        let n = n as usize;
+        let fields = OptionFields::open(&options, &["kinds", "smoothing", "speed", "start", "unwrap"])?;
+        let mut kinds = vec![PinKind::Position; n];
+        if let Some(v) = fields.get("kinds")? {
+            let list =
+                v.dyn_ref::<Array>().ok_or_else(|| bad_type("options.kinds", "an array of strings", &v))?;
+            let len = list.length() as usize;
+            if len != n {
+                return Err(Error::CountMismatch { what: "kinds", got: len, expected: n }.into());
+            }
+            for (i, kind) in kinds.iter_mut().enumerate() {
+                let k = list.get(i as u32);
+                *kind = k.as_string().as_deref().and_then(animation::parse_kind).ok_or_else(|| {
+                    let reason = format!("{} is not \"position\", \"bend\" or \"advanced\"", describe(&k));
+                    bad_option(&format!("kinds[{i}]"), &k, &reason).with("index", i)
+                })?;
+            }
+        }
+        let mut o = TrackOptions::default();
+        o.smoothing = fields.number("smoothing")?.unwrap_or(o.smoothing);
+        o.speed = fields.number("speed")?.unwrap_or(o.speed);
+        o.start = fields.number("start")?.unwrap_or(o.start);
+        if let Some(v) = fields.get("unwrap")? {
+            o.unwrap = v.as_bool().ok_or_else(|| bad_option("unwrap", &v, "expected a boolean"))?;
+        }
+        Ok(JsTrack::wrap(Track::new(kinds, o)?))
+    }
+
+    fn wrap(track: Track) -> JsTrack {
+        let n = track.pin_count();
+        JsTrack {
+            track,
+            targets: vec![[0.0; 2]; n],
+            rotations: vec![Rotation::default(); n],
+            flat: vec![0.0; 2 * n],
+        }
+    }
+
+    /// Records a frame: `time` in seconds on the caller's clock (e.g. `performance.now() /
+    /// 1000`; the first record lands at `options.start`, later ones `(time − first) / speed`
+    /// after it; a record at the same time as the last replaces it), `targets` `[x0, y0, …]`
+    /// one per pin, `rotations` `[angle0, scale0, …]` one per pin (default: every pin `[0,
+    /// 1]`). Throws `bad-time` (not finite, or earlier than the last), `bad-type`,
+    /// `bad-length`, `non-finite`, `too-large`, `bad-option` (a scale outside [1e-6, 1e6]);
+    /// the track is then as it was.
+    pub fn record(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] time: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array")] rotations: JsValue,
+    ) -> Result<(), Thrown> {
+        let time = time.as_f64().ok_or_else(|| bad_type("time", "a number", &time))?;
+        read_exact("targets", typed::<Float64Array>("targets", &targets)?, &mut self.targets)?;
+        let turned = !(rotations.is_undefined() || rotations.is_null());
+        if turned {
+            super::pins::read_rotations(&rotations, &mut self.rotations)?;
+        }
+        self.track.record(time, &self.targets, turned.then_some(&self.rotations[..]))?;
+        Ok(())
+    }
+
+    /// Writes the pins' targets at track time `time` (seconds) into `targets`
+    /// (`Float64Array`, `2 · pinCount`) and their rotations `[angle, scale]` into
+    /// `rotations` when given (`Float64Array`, `2 · pinCount`): exactly a sample at its
+    /// time, linear between samples, the first and last held before and after. Allocates
+    /// nothing: the call for every playback frame. Throws `empty-track`, `bad-time`,
+    /// `bad-type`, `bad-length`.
+    #[wasm_bindgen(js_name = sampleInto)]
+    pub fn sample_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] time: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array")] rotations: JsValue,
+    ) -> Result<(), Thrown> {
+        let time = time.as_f64().ok_or_else(|| bad_type("time", "a number", &time))?;
+        let expected = 2 * self.track.pin_count();
+        let targets = typed::<Float64Array>("targets", &targets)?;
+        if targets.len() != expected {
+            return Err(Error::CountMismatch { what: "targets", got: targets.len(), expected }.into());
+        }
+        let rotations = match rotations.is_undefined() || rotations.is_null() {
+            true => None,
+            false => Some(typed::<Float64Array>("rotations", &rotations)?),
+        };
+        if let Some(r) = rotations {
+            if r.len() != expected {
+                return Err(Error::CountMismatch { what: "rotations", got: r.len(), expected }.into());
+            }
+        }
+        self.track.sample_into(time, &mut self.targets, &mut self.rotations)?;
+        targets.copy_from(self.targets.as_flattened());
+        if let Some(r) = rotations {
+            for (f, r) in self.flat.chunks_exact_mut(2).zip(&self.rotations) {
+                f.copy_from_slice(&[r.angle, r.scale]);
+            }
+            r.copy_from(&self.flat);
+        }
+        Ok(())
+    }
+
+    /// Removes every sample; the next record starts again at `options.start`.
+    pub fn clear(&mut self) {
+        self.track.clear();
+    }
+
+    /// The number of pins.
+    #[wasm_bindgen(getter, js_name = pinCount)]
+    pub fn pin_count(&self) -> usize {
+        self.track.pin_count()
+    }
+
+    /// The number of samples.
+    #[wasm_bindgen(getter, js_name = sampleCount)]
+    pub fn sample_count(&self) -> usize {
+        self.track.sample_count()
+    }
+
+    /// The last sample's time minus the first's, in seconds (0 with fewer than two).
+    #[wasm_bindgen(getter)]
+    pub fn duration(&self) -> f64 {
+        self.track.duration()
+    }
+
+    /// The first sample's track time, in seconds (0 without samples).
+    #[wasm_bindgen(getter)]
+    pub fn start(&self) -> f64 {
+        self.track.start()
+    }
+
+    /// The last sample's track time, in seconds (0 without samples).
+    #[wasm_bindgen(getter)]
+    pub fn end(&self) -> f64 {
+        self.track.end()
+    }
+
+    /// Every sample's track time, in seconds.
+    #[wasm_bindgen(getter)]
+    pub fn times(&self) -> Float64Array {
+        Float64Array::from(self.track.times())
+    }
+
+    /// Each pin's kind.
+    #[wasm_bindgen(getter, unchecked_return_type = "PinKind[]")]
+    pub fn kinds(&self) -> Array {
+        self.track.kinds().iter().map(|&k| JsValue::from_str(super::pins::kind_name(k))).collect()
+    }
+
+    /// The track as plain data (`TrackJSON`), so that `JSON.stringify(track)` writes it and
+    /// `Track.fromJSON` reads back the same samples, bit for bit.
+    #[wasm_bindgen(js_name = toJSON, unchecked_return_type = "TrackJSON")]
+    pub fn to_json(&self) -> JsValue {
+        let json = self.track.to_json();
+        let object = Object::new();
+        super::set(&object, "pins", &JsValue::from(json.pins));
+        let kinds: Array = json.kinds.iter().flatten().map(|k| JsValue::from_str(k)).collect();
+        super::set(&object, "kinds", &kinds);
+        super::set(&object, "times", &list(&json.times));
+        super::set(&object, "targets", &list(&json.targets));
+        if let Some(r) = &json.rotations {
+            super::set(&object, "rotations", &list(r));
+        }
+        object.into()
+    }
+
+    /// A track from `toJSON`'s data or its JSON text, checked (kinds, lengths, finite
+    /// values, increasing times). Throws `bad-document` (naming the field), `bad-length`,
+    /// `non-finite`.
+    #[wasm_bindgen(js_name = fromJSON)]
+    pub fn from_json(
+        #[wasm_bindgen(unchecked_param_type = "string | TrackJSON")] json: JsValue,
+    ) -> Result<JsTrack, Thrown> {
+        let data = read_track(&object(json)?, "track".into())?;
+        Ok(JsTrack::wrap(Track::from_json(&data)?))
+    }
+}
+
+/// A puppet document ready to play: the mesh's positions at any time.
+///
+/// ```js
+/// const player = Player.load(await (await fetch("wave.bunraku.json")).text());
+/// const out = new Float64Array(2 * player.vertexCount);
+/// function frame(now) {
+///   player.positionsInto(now / 1000, out);     // seconds; no allocation
+///   draw(out, player.triangles, player.uvs);
+///   requestAnimationFrame(frame);
+/// }
+/// ```
+#[wasm_bindgen(js_name = Player)]
+pub struct JsPlayer {
+    player: animation::Player,
+    out: Vec<[f64; 2]>,
+    /// The document as loaded, as JSON text (what `toJSON` parses again).
+    text: js_sys::JsString,
+}
+
+#[wasm_bindgen(js_class = Player)]
+impl JsPlayer {
+    /// Reads a puppet document (`PuppetDocument`, or its JSON text) and prepares its
+    /// playback: checks the header, every field and value, then compiles the pins (a track)
+    /// or adds the poses to a blender (weights). Throws, naming the field (`error.field`):
+    /// `bad-version` (a version other than 1), `bad-document` (not JSON, the wrong
+    /// `format`, a missing, unknown or mistyped field), `bad-length` (a pose, `uvs` or
+    /// track of the wrong length), `non-finite`, and the mesh's, pins' and poses' own
+    /// errors (`index-out-of-range`, `handle-outside`, `flipped-triangles`, …).
+    pub fn load(
+        #[wasm_bindgen(unchecked_param_type = "string | PuppetDocument")] document: JsValue,
+    ) -> Result<JsPlayer, Thrown> {
+        let object = object(document)?;
+        let field = |key: &str| Reflect::get(&object, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+        let (format, version) = (field("format"), field("version"));
+        animation::check_header(format.as_string().as_deref(), version.as_f64())?;
+        let player = animation::Player::new(read_document(&object)?)?;
+        let out = vec![[0.0; 2]; player.mesh().vertices().len()];
+        // JSON.stringify writes every number in its shortest round-trip form: parsing it
+        // back gives the same numbers, bit for bit.
+        let text =
+            js_sys::JSON::stringify(&object).map_err(|_| bad("", "could not be written as JSON".into()))?;
+        Ok(JsPlayer { player, out, text })
+    }
+
+    /// The positions at time `t` (seconds; with `loop`, `t` modulo `duration`) as a new
+    /// `Float64Array` `[x0, y0, …]`. Throws `bad-type`, `bad-time` (not finite).
+    #[wasm_bindgen(js_name = positionsAt)]
+    pub fn positions_at(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
+    ) -> Result<Float64Array, Thrown> {
+        self.solve(&t)?;
+        Ok(flat(&self.out))
+    }
+
+    /// Like `positionsAt`, but writes into `out` (a `Float64Array` of `2 * vertexCount`)
+    /// and allocates nothing: the call for every frame. Throws `bad-type`, `bad-length`,
+    /// `bad-time`; the player is then as it was.
+    #[wasm_bindgen(js_name = positionsInto)]
+    pub fn positions_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+    ) -> Result<(), Thrown> {
+        let out = typed::<Float64Array>("out", &out)?;
+        let (got, expected) = (out.len(), 2 * self.out.len());
+        if got != expected {
+            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
+        }
+        self.solve(&t)?;
+        out.copy_from(self.out.as_flattened());
+        Ok(())
+    }
+
+    fn solve(&mut self, t: &JsValue) -> Result<(), Thrown> {
+        let t = t.as_f64().ok_or_else(|| bad_type("t", "a number", t))?;
+        Ok(self.player.positions_into(t, &mut self.out)?)
+    }
+
+    /// The animation's length in seconds.
+    #[wasm_bindgen(getter)]
+    pub fn duration(&self) -> f64 {
+        self.player.duration()
+    }
+
+    /// Whether playback repeats every `duration` seconds.
+    #[wasm_bindgen(getter, js_name = loop)]
+    pub fn looping(&self) -> bool {
+        self.player.looping()
+    }
+
+    /// What plays: `"track"`, `"weights"` or `"still"`.
+    #[wasm_bindgen(getter, unchecked_return_type = "PlayMode")]
+    pub fn mode(&self) -> String {
+        match self.player.mode() {
+            Mode::Track => "track",
+            Mode::Weights => "weights",
+            Mode::Still => "still",
+        }
+        .into()
+    }
+
+    /// The number of vertices.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.out.len()
+    }
+
+    /// The number of triangles.
+    #[wasm_bindgen(getter, js_name = triangleCount)]
+    pub fn triangle_count(&self) -> usize {
+        self.player.mesh().triangles().len()
+    }
+
+    /// The rest vertices `[x0, y0, …]`, as the document stores them.
+    #[wasm_bindgen(getter)]
+    pub fn vertices(&self) -> Float64Array {
+        flat(self.player.mesh().vertices())
+    }
+
+    /// The triangles `[a0, b0, c0, …]`, counter-clockwise.
+    #[wasm_bindgen(getter)]
+    pub fn triangles(&self) -> Uint32Array {
+        flat(self.player.mesh().triangles())
+    }
+
+    /// The texture coordinates `[u0, v0, …]`, one pair per vertex.
+    #[wasm_bindgen(getter)]
+    pub fn uvs(&self) -> Float32Array {
+        flat(self.player.uvs())
+    }
+
+    /// Each triangle's depth from the document's overlap regions (0 without): pass it to
+    /// the `Renderer` (`options.depth`) or to WebGL.
+    #[wasm_bindgen(getter, js_name = triangleDepth)]
+    pub fn triangle_depth(&self) -> Float32Array {
+        Float32Array::from(self.player.triangle_depths())
+    }
+
+    /// The document's picture (`{ url, width?, height? }`), or `undefined`.
+    #[wasm_bindgen(
+        getter,
+        unchecked_return_type = "{ url: string; width?: number; height?: number } | undefined"
+    )]
+    pub fn picture(&self) -> JsValue {
+        let Some(p) = &self.player.document().picture else { return JsValue::UNDEFINED };
+        let object = Object::new();
+        super::set(&object, "url", &JsValue::from_str(&p.url));
+        for (key, size) in [("width", p.width), ("height", p.height)] {
+            if let Some(size) = size {
+                super::set(&object, key, &JsValue::from(size));
+            }
+        }
+        object.into()
+    }
+
+    /// The document as plain data, field for field and number for number as it was loaded:
+    /// `JSON.stringify(player)` saves it, `Player.load` reads it back bit for bit.
+    #[wasm_bindgen(js_name = toJSON, unchecked_return_type = "PuppetDocument")]
+    pub fn to_json(&self) -> Result<JsValue, Thrown> {
+        js_sys::JSON::parse(&String::from(&self.text)).map_err(|_| bad("", "could not be read back".into()))
+    }
+}
+
+/// A document error from the binding.
+fn bad(field: &str, reason: String) -> Thrown {
+    Error::BadDocument { fault: DocumentFault::Structure, field: field.into(), value: None, reason }.into()
+}
+
+/// The object `value` is, or the one its JSON text holds.
+fn object(value: JsValue) -> Result<JsValue, Thrown> {
+    let value = match value.as_string() {
+        Some(text) => js_sys::JSON::parse(&text).map_err(|e| {
+            let why = e.dyn_into::<js_sys::Error>().map(|e| String::from(e.message())).unwrap_or_default();
+            bad("", format!("is not JSON ({why})"))
+        })?,
+        None => value,
+    };
+    if !value.is_object() || Array::is_array(&value) {
+        return Err(bad("", format!("expected an object or its JSON text, got {}", describe(&value))));
+    }
+    Ok(value)
+}
+
+/// One object of a document, read field by field with `Reflect` (the JS engine parsed the
+/// JSON; no serde in wasm): a key it does not know is an error naming its path, so that a
+/// misspelt field is never ignored; `undefined` and `null` count as absent.
+struct Fields<'a> {
+    object: &'a JsValue,
+    path: String,
+}
+
+impl<'a> Fields<'a> {
+    fn open(object: &'a JsValue, path: String, known: &[&str]) -> Result<Fields<'a>, Thrown> {
+        if !object.is_object() || Array::is_array(object) {
+            return Err(bad(&path, format!("expected an object, got {}", describe(object))));
+        }
+        let fields = Fields { object, path };
+        for key in Object::keys(object.unchecked_ref::<Object>()).iter() {
+            let name = key.as_string().unwrap_or_default();
+            if !known.contains(&name.as_str()) && fields.get(&name).is_some() {
+                let reason = format!("is not a field of this format (known: {})", known.join(", "));
+                return Err(bad(&fields.at(&name), reason));
+            }
+        }
+        Ok(fields)
+    }
+
+    fn at(&self, key: &str) -> String {
+        if self.path.is_empty() {
+            key.into()
+        } else {
+            format!("{}.{key}", self.path)
+        }
+    }
+
+    fn get(&self, key: &str) -> Option<JsValue> {
+        let v = Reflect::get(self.object, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+        (!v.is_undefined() && !v.is_null()).then_some(v)
+    }
+
+    fn wrong(&self, key: &str, expected: &str, v: &JsValue) -> Thrown {
+        bad(&self.at(key), format!("expected {expected}, got {}", describe(v)))
+    }
+
+    fn required<T>(&self, key: &str, value: Result<Option<T>, Thrown>) -> Result<T, Thrown> {
+        value?.ok_or_else(|| bad(&self.at(key), "is missing".into()))
+    }
+
+    fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
+        self.get(key).map(|v| v.as_f64().ok_or_else(|| self.wrong(key, "a number", &v))).transpose()
+    }
+
+    fn whole(&self, key: &str) -> Result<Option<u32>, Thrown> {
+        let Some(x) = self.number(key)? else { return Ok(None) };
+        if x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64 {
+            Ok(Some(x as u32))
+        } else {
+            Err(self.wrong(key, "a whole number", &x.into()))
+        }
+    }
+
+    fn string(&self, key: &str) -> Result<Option<String>, Thrown> {
+        self.get(key).map(|v| v.as_string().ok_or_else(|| self.wrong(key, "a string", &v))).transpose()
+    }
+
+    fn boolean(&self, key: &str) -> Result<Option<bool>, Thrown> {
+        self.get(key).map(|v| v.as_bool().ok_or_else(|| self.wrong(key, "a boolean", &v))).transpose()
+    }
+
+    fn array(&self, key: &str) -> Result<Option<Array>, Thrown> {
+        match self.get(key) {
+            Some(v) if Array::is_array(&v) => Ok(Some(v.unchecked_into())),
+            Some(v) => Err(self.wrong(key, "an array", &v)),
+            None => Ok(None),
+        }
+    }
+
+    /// An array of numbers, converted by the engine (`new Float64Array(array)`); an item
+    /// that is not a number becomes NaN, which the core's checks name.
+    fn numbers(&self, key: &str) -> Result<Option<Vec<f64>>, Thrown> {
+        Ok(self.array(key)?.map(|a| Float64Array::new(&a).to_vec()))
+    }
+
+    fn wholes(&self, key: &str) -> Result<Option<Vec<u32>>, Thrown> {
+        let Some(x) = self.numbers(key)? else { return Ok(None) };
+        match x.iter().position(|&x| !(x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64)) {
+            Some(i) => {
+                Err(bad(&format!("{}[{i}]", self.at(key)), format!("{} is not a vertex index", number(x[i]))))
+            }
+            None => Ok(Some(x.into_iter().map(|x| x as u32).collect())),
+        }
+    }
+
+    fn strings(&self, key: &str) -> Result<Option<Vec<String>>, Thrown> {
+        let Some(a) = self.array(key)? else { return Ok(None) };
+        let strings: Option<Vec<String>> = a.iter().map(|v| v.as_string()).collect();
+        strings.map(Some).ok_or_else(|| self.wrong(key, "an array of strings", &a))
+    }
+
+    fn point(&self, key: &str) -> Result<[f64; 2], Thrown> {
+        let p = self.required(key, self.numbers(key))?;
+        match p[..] {
+            [x, y] => Ok([x, y]),
+            _ => Err(self.wrong(key, "[x, y]", &JsValue::UNDEFINED)),
+        }
+    }
+
+    /// Each object of the array `key`, read by `read` with its path.
+    fn list<T>(
+        &self,
+        key: &str,
+        read: impl Fn(&JsValue, String) -> Result<T, Thrown>,
+    ) -> Result<Option<Vec<T>>, Thrown> {
+        let Some(a) = self.array(key)? else { return Ok(None) };
+        let path = self.at(key);
+        a.iter()
+            .enumerate()
+            .map(|(i, v)| read(&v, format!("{path}[{i}]")))
+            .collect::<Result<_, _>>()
+            .map(Some)
+    }
+}
+
+/// A document's fields (the header was checked before).
+fn read_document(object: &JsValue) -> Result<Document, Thrown> {
+    let known = [
+        "format", "version", "picture", "meshing", "mesh", "puppet", "pins", "starch", "overlap", "blend",
+        "poses", "track", "weights", "play", "loop", "duration",
+    ];
+    let f = Fields::open(object, String::new(), &known)?;
+    let sub = |key: &str| f.get(key);
+    let picture = match sub("picture") {
+        None => None,
+        Some(v) => {
+            let p = Fields::open(&v, "picture".into(), &["url", "width", "height"])?;
+            Some(PictureJson {
+                url: p.required("url", p.string("url"))?,
+                width: p.whole("width")?,
+                height: p.whole("height")?,
+            })
+        }
+    };
+    let meshing = match sub("meshing") {
+        None => None,
+        Some(v) => {
+            let keys = [
+                "from",
+                "spacing",
+                "minAngle",
+                "maxVertices",
+                "alphaThreshold",
+                "margin",
+                "simplify",
+                "minArea",
+            ];
+            let m = Fields::open(&v, "meshing".into(), &keys)?;
+            Some(MeshingJson {
+                from: m.string("from")?,
+                spacing: m.number("spacing")?,
+                min_angle: m.number("minAngle")?,
+                max_vertices: m.number("maxVertices")?,
+                alpha_threshold: m.number("alphaThreshold")?,
+                margin: m.number("margin")?,
+                simplify: m.number("simplify")?,
+                min_area: m.number("minArea")?,
+            })
+        }
+    };
+    let mesh = {
+        let v = f.required("mesh", Ok(sub("mesh")))?;
+        let m = Fields::open(&v, "mesh".into(), &["vertices", "triangles", "uvs"])?;
+        MeshJson {
+            vertices: m.required("vertices", m.numbers("vertices"))?,
+            triangles: m.required("triangles", m.wholes("triangles"))?,
+            uvs: m.numbers("uvs")?,
+        }
+    };
+    let puppet = match sub("puppet") {
+        None => None,
+        Some(v) => {
+            let keys = [
+                "method",
+                "weights",
+                "handleWeight",
+                "iterations",
+                "preserveArea",
+                "termWeights",
+                "maxSolves",
+                "regularization",
+            ];
+            let p = Fields::open(&v, "puppet".into(), &keys)?;
+            let term_weights = match p.get("termWeights") {
+                None => None,
+                Some(t) => {
+                    let t = Fields::open(&t, p.at("termWeights"), &["laplacian", "meanValue", "edgeLength"])?;
+                    Some(TermWeightsJson {
+                        laplacian: t.number("laplacian")?,
+                        mean_value: t.number("meanValue")?,
+                        edge_length: t.number("edgeLength")?,
+                    })
+                }
+            };
+            Some(PuppetJson {
+                method: p.string("method")?,
+                weights: p.string("weights")?,
+                handle_weight: p.number("handleWeight")?,
+                iterations: p.whole("iterations")?,
+                preserve_area: p.boolean("preserveArea")?,
+                term_weights,
+                max_solves: p.whole("maxSolves")?,
+                regularization: p.number("regularization")?,
+            })
+        }
+    };
+    let pins = match sub("pins") {
+        None => None,
+        Some(v) => {
+            let p = Fields::open(&v, "pins".into(), &["points", "kinds", "radius"])?;
+            Some(PinsJson {
+                points: p.required("points", p.numbers("points"))?,
+                kinds: p.strings("kinds")?,
+                radius: p.numbers("radius")?,
+            })
+        }
+    };
+    let starch = f.list("starch", |v, path| {
+        let r = Fields::open(v, path, &["at", "amount", "extent"])?;
+        let amount = r.required("amount", r.number("amount"))?;
+        Ok(StarchJson { at: r.point("at")?, amount, extent: r.required("extent", r.number("extent"))? })
+    })?;
+    let overlap = f.list("overlap", |v, path| {
+        let r = Fields::open(v, path, &["at", "depth", "extent"])?;
+        let depth = r.required("depth", r.number("depth"))?;
+        Ok(OverlapJson { at: r.point("at")?, depth, extent: r.required("extent", r.number("extent"))? })
+    })?;
+    let blend = match sub("blend") {
+        None => None,
+        Some(v) => Some(BlendJson {
+            iterations: Fields::open(&v, "blend".into(), &["iterations"])?.whole("iterations")?,
+        }),
+    };
+    let poses = f.list("poses", |v, path| {
+        let p = Fields::open(v, path, &["positions", "nearAngle", "nearPose", "flipped"])?;
+        Ok(PoseJson {
+            positions: p.required("positions", p.numbers("positions"))?,
+            near_angle: p.number("nearAngle")?,
+            near_pose: p.whole("nearPose")?,
+            flipped: p.string("flipped")?,
+        })
+    })?;
+    let track = sub("track").map(|v| read_track(&v, "track".into())).transpose()?;
+    let weights = match sub("weights") {
+        None => None,
+        Some(v) => {
+            let w = Fields::open(&v, "weights".into(), &["times", "values"])?;
+            Some(WeightsJson {
+                times: w.required("times", w.numbers("times"))?,
+                values: w.required("values", w.numbers("values"))?,
+            })
+        }
+    };
+    Ok(Document {
+        format: animation::FORMAT.into(),
+        version: animation::VERSION,
+        picture,
+        meshing,
+        mesh,
+        puppet,
+        pins,
+        starch,
+        overlap,
+        blend,
+        poses,
+        track,
+        weights,
+        play: f.string("play")?,
+        looping: f.boolean("loop")?,
+        duration: f.number("duration")?,
+    })
+}
+
+/// A track's JSON data at `path`.
+fn read_track(value: &JsValue, path: String) -> Result<TrackJson, Thrown> {
+    let t = Fields::open(value, path, &["pins", "kinds", "times", "targets", "rotations"])?;
+    Ok(TrackJson {
+        pins: t.required("pins", t.whole("pins"))? as usize,
+        kinds: t.strings("kinds")?,
+        times: t.required("times", t.numbers("times"))?,
+        targets: t.required("targets", t.numbers("targets"))?,
+        rotations: t.numbers("rotations")?,
+    })
+}
+
+/// Numbers as a plain JS array (what `JSON.stringify` writes as a list).
+fn list(values: &[f64]) -> Array {
+    Array::from(&Float64Array::from(values))
+}
