@@ -83,6 +83,13 @@ test("examples/node runs against the installed package", { timeout: 10 * MINUTE 
   let opaque = 0;
   for (let k = 3; k < png.data.length; k += 4) opaque += png.data[k] === 255;
   assert.ok(opaque > 0.1 * png.width * png.height, `${opaque} opaque pixels of ${png.width} × ${png.height}`);
+  // The shipped puppet document played into PNG frames by Player and Renderer.
+  const animation = join(work, "animation");
+  assert.match(run("node", ["animate.mjs", "3", animation], dir), /plays its track for 2\.00 s \(loops\)/);
+  const played = readdirSync(animation).filter((f) => f.endsWith(".png")).sort();
+  assert.equal(played.length, 3, `${played}`);
+  const [first, last] = [played[0], played[2]].map((f) => PNG.sync.read(readFileSync(join(animation, f))));
+  assert.ok(!first.data.equals(last.data), "the frames differ: the document animates");
 });
 
 /**
