@@ -8,11 +8,18 @@
 // positions, its own frame callback (float conversion, buffer upload, draw calls,
 // overlay) and the requestAnimationFrame timestamp; this prints their median, 95th
 // percentile and maximum. The frame interval is the interval between new poses. Target
-// (issue 4): median frame ≤ 16.7 ms.
+// (issues 4, 10 and 11): median frame ≤ 16.7 ms.
+//
+// With --kinds all, every pin kind is in use (issue 11): a bend pin on the head and an
+// advanced pin on the right forearm are added with the page's pin-kind picker, and while
+// the left hand's position pin sweeps, two more pointers turn the two pins by their
+// rotation rings (a quarter turn each way, the advanced pin's ring also drawn out to scale
+// 1.3), all in the same animation frames.
 //
 //   node benches/browser.mjs [--vertices 5000] [--frames 120] [--renderer 2d]
-//                            [--method two-step|nonlinear|injective] [--per-frame]
-// (--method: the page's ?method=, Puppet.register's option; default: the package's.)
+//                            [--method two-step|nonlinear|injective] [--kinds all]
+//                            [--per-frame]
+// (--method: the page's ?method=, the selector's first value; default: injective.)
 
 import os from "node:os";
 import { parseArgs } from "node:util";
@@ -24,6 +31,7 @@ const { values: opts } = parseArgs({
     frames: { type: "string", default: "120" },
     renderer: { type: "string", default: "webgl2" },
     method: { type: "string" },
+    kinds: { type: "string", default: "position" },
     "per-frame": { type: "boolean", default: false },
   },
 });
@@ -45,17 +53,35 @@ try {
   const renderer = await page.evaluate(() => window.bunrakuDemo.renderer);
   const stage = await page.locator("#stage").evaluate((c) => [c.width, c.height]);
 
+  // Every kind in use: a bend pin on the head, an advanced pin on the right forearm
+  // (points of assets/gingerbread.svg, 512 units wide), placed by clicks with the picker.
+  const all = opts.kinds === "all";
+  if (all) {
+    for (const [kind, x, y] of [["bend", 256, 60], ["advanced", 350, 232]]) {
+      await page.locator("#pin-kind").selectOption(kind);
+      const at = await page.evaluate(([x, y]) => {
+        const s = window.bunrakuDemo.picture().width / 512;
+        return window.bunrakuDemo.toClient(x * s, y * s);
+      }, [x, y]);
+      await page.mouse.click(at[0], at[1]);
+      await settled(page);
+    }
+  }
+  const kinds = await page.evaluate(() => window.bunrakuDemo.pins().map((p) => p.kind));
+
   // Warm-up drag (V8 tiers the worker's wasm up during the first calls), then the measured
   // one.
   const run = (n) =>
-    page.evaluate(async (n) => {
+    page.evaluate(async ([n, all]) => {
       const demo = window.bunrakuDemo;
       const stage = document.getElementById("stage");
       const hand = demo.pins()[1];
-      const fire = (type, x, y) =>
+      // The rings of the bend and advanced pins (the last two), pressed on their right.
+      const rings = all ? demo.pins().slice(-2).map((p, k) => ({ id: 42 + k, c: p.material, turn: k ? -Math.PI / 2 : Math.PI / 2, grow: k ? 0.3 : 0 })) : [];
+      const fire = (type, x, y, pointerId = 41) =>
         stage.dispatchEvent(
           new PointerEvent(type, {
-            pointerId: 41,
+            pointerId,
             pointerType: "mouse",
             isPrimary: true,
             button: 0,
@@ -71,17 +97,26 @@ try {
       await nextFrame();
       demo.clearFrames();
       fire("pointerdown", hand.x, hand.y);
+      for (const r of rings) fire("pointerdown", r.c.x + 24, r.c.y, r.id);
       for (let f = 1; f <= n; f++) {
         await nextFrame();
         // The hand sweeps up over the head and back: a half-circle about the shoulder.
         const a = (Math.PI * f) / n;
         fire("pointermove", hand.x + 70 * (1 - Math.cos(a)), hand.y - 150 * Math.sin(a));
+        for (const r of rings) {
+          const t = r.turn * Math.sin(a), radius = 24 * (1 + r.grow * Math.sin(a));
+          fire("pointermove", r.c.x + radius * Math.cos(t), r.c.y + radius * Math.sin(t), r.id);
+        }
       }
       await nextFrame();
-      await demo.settled();
+      // The drag's frames only: the injective method then refines on idle frames until it
+      // converges, which is not a drag.
+      const drag = demo.frames();
       fire("pointerup", hand.x, hand.y);
-      return demo.frames();
-    }, n);
+      for (const r of rings) fire("pointerup", r.c.x + 24, r.c.y, r.id);
+      await demo.settled();
+      return drag;
+    }, [n, all]);
   await run(30);
   const records = (await run(frames)).filter((r) => !Number.isNaN(r.solveMs));
 
@@ -93,8 +128,9 @@ try {
   };
   const intervals = records.slice(1).map((r, k) => r.time - records[k].time);
 
-  console.log(`Chromium ${version} (headless, ${renderer}), ${os.cpus()[0].model}, ${os.cpus().length} cores; method: ${opts.method ?? "the package's default"}`);
-  console.log(`mesh: ${mesh.vertices} vertices, ${mesh.triangles} triangles; stage ${stage[0]} × ${stage[1]} device px; ${records.length} new poses drawn for ${frames} pointer moves`);
+  const method = await page.evaluate(() => window.bunrakuDemo.method());
+  console.log(`Chromium ${version} (headless, ${renderer}), ${os.cpus()[0].model}, ${os.cpus().length} cores, load average ${os.loadavg()[0].toFixed(1)}; method: ${method}; pins: ${kinds.join(", ")}`);
+  console.log(`mesh: ${mesh.vertices} vertices, ${mesh.triangles} triangles; stage ${stage[0]} × ${stage[1]} device px; ${records.length} new poses drawn during ${frames} frames of pointer moves`);
   console.log("");
   console.log("| per frame (ms) | frames | median | p95 | max |");
   console.log("|---|---:|---:|---:|---:|");
