@@ -43,6 +43,7 @@ pub mod quality;
 pub mod render;
 mod segments;
 mod solver;
+mod sort;
 pub mod surface;
 mod topology;
 #[cfg(target_arch = "wasm32")]

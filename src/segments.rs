@@ -2,8 +2,9 @@
 //! the one sweep that finds the pairs of segments whose bounding boxes overlap (outline
 //! validation, and the crossing check of simplified picture contours).
 
-use std::cmp::Ordering;
 use std::ops::ControlFlow;
+
+use crate::sort::{sort_u128, total_order_key};
 
 /// Sign of the orientation of `(a, b, c)`: 1 counter-clockwise, -1 clockwise, 0 collinear
 /// or too close to call (Shewchuk's static error bound), which the callers treat as a
@@ -55,8 +56,11 @@ pub(crate) fn overlapping_pairs(
     mut visit: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) {
     let (x, y) = (axis, 1 - axis);
-    let mut order: Vec<usize> = (0..boxes.len()).collect();
-    order.sort_unstable_by(|&i, &j| boxes[i].0[x].partial_cmp(&boxes[j].0[x]).unwrap_or(Ordering::Equal));
+    // By the boxes' low ends along the axis, ties by index.
+    let mut keys: Vec<u128> =
+        boxes.iter().enumerate().map(|(i, b)| (total_order_key(b.0[x]) as u128) << 64 | i as u128).collect();
+    sort_u128(&mut keys);
+    let order: Vec<usize> = keys.iter().map(|&k| k as u64 as usize).collect();
     let mut active: Vec<usize> = Vec::new();
     for &i in &order {
         let (lo, hi) = boxes[i];

@@ -158,7 +158,7 @@ fn check_disc(n: usize, t: usize, edges: &[Edge]) -> Result<()> {
     let boundary_edges: Vec<Edge> = boundary.iter().map(|e| **e).collect();
     let (label, _) = components(n, &boundary_edges);
     let mut loops: Vec<u32> = (0..n).filter(|&v| degree[v] > 0).map(|v| label[v]).collect();
-    loops.sort_unstable();
+    crate::sort::sort_u32(&mut loops);
     loops.dedup();
     if loops.len() > 1 {
         return bad(format!("it has {} boundary loops (holes); a disc has one", loops.len()));

@@ -64,7 +64,16 @@ pub(crate) fn half_edges(triangles: &[[u32; 3]]) -> Vec<HalfEdge> {
             }
         }
     }
-    half.sort_unstable();
+    // (a, b, index, forward) packed in that order: the index is unique, so the key order is
+    // the tuples' order.
+    let mut keys: Vec<u128> = half
+        .iter()
+        .map(|&(a, b, i, f)| (a as u128) << 96 | (b as u128) << 64 | (i as u128) << 1 | f as u128)
+        .collect();
+    crate::sort::sort_u128(&mut keys);
+    for (h, k) in half.iter_mut().zip(keys) {
+        *h = ((k >> 96) as u32, (k >> 64) as u32, ((k as u64) >> 1) as u32, k & 1 == 1);
+    }
     half
 }
 
@@ -109,19 +118,29 @@ pub(crate) fn build_edges(triangles: &[[u32; 3]]) -> Result<(Vec<Edge>, Vec<[u32
 
 /// Rejects two triangles with the same three vertices, naming both.
 pub(crate) fn check_duplicates(triangles: &[[u32; 3]]) -> Result<()> {
-    let mut keyed: Vec<([u32; 3], usize)> = triangles
+    // Each triangle's vertices in ascending order, then its index: one key.
+    let mut keyed: Vec<u128> = triangles
         .iter()
         .enumerate()
-        .map(|(t, tri)| {
-            let mut k = *tri;
-            k.sort_unstable();
-            (k, t)
+        .map(|(t, &[a, b, c])| {
+            let (lo, hi) = (a.min(b), a.max(b));
+            let (lo, mid, hi) = if c < lo {
+                (c, lo, hi)
+            } else if c < hi {
+                (lo, c, hi)
+            } else {
+                (lo, hi, c)
+            };
+            (lo as u128) << 96 | (mid as u128) << 64 | (hi as u128) << 32 | t as u128
         })
         .collect();
-    keyed.sort_unstable();
+    crate::sort::sort_u128(&mut keyed);
     for w in keyed.windows(2) {
-        if w[0].0 == w[1].0 {
-            return Err(Error::DuplicateTriangle { first: w[0].1, second: w[1].1 });
+        if w[0] >> 32 == w[1] >> 32 {
+            return Err(Error::DuplicateTriangle {
+                first: w[0] as u32 as usize,
+                second: w[1] as u32 as usize,
+            });
         }
     }
     Ok(())
@@ -189,7 +208,11 @@ pub(crate) fn components(n: usize, edges: &[Edge]) -> (Vec<u32>, usize) {
 /// walks meet at one vertex (a pinch) they are still closed walks over distinct edges.
 /// O(m log m) for m edges.
 pub(crate) fn chain_loops(mut directed: Vec<(u32, u32)>) -> (Vec<u32>, Vec<usize>) {
-    directed.sort_unstable();
+    let mut keys: Vec<u64> = directed.iter().map(|&(a, b)| (a as u64) << 32 | b as u64).collect();
+    crate::sort::sort_u64(&mut keys);
+    for (e, k) in directed.iter_mut().zip(keys) {
+        *e = ((k >> 32) as u32, k as u32);
+    }
     let m = directed.len();
     // The edges out of a vertex are a run of the sorted list, and the used ones are always
     // a prefix of their run: `next[run start]` is the first unused one.

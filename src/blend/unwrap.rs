@@ -24,6 +24,7 @@ use std::collections::BinaryHeap;
 use std::f64::consts::TAU;
 
 use crate::mesh::Mesh;
+use crate::sort::{sort_by_key_stable, total_order_key};
 
 /// What a new pose's angles are unwrapped towards (the branch of each connected piece of
 /// the mesh): see [`super::PoseOptions::reference`].
@@ -102,7 +103,9 @@ pub(crate) fn unwrap(mesh: &Mesh, angles: &mut [f64], areas: &[f64], reference: 
 /// The weighted median of `(value, weight)` pairs (the smallest value at which the
 /// cumulative weight reaches half the total); 0 for no pairs. Reorders them.
 fn weighted_median(pairs: &mut [(f64, f64)]) -> f64 {
-    pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    // Equal values may come in any order: the median is the same.
+    let mut keys = Vec::new();
+    sort_by_key_stable(pairs, |p| total_order_key(p.0), &mut keys, &mut Vec::new());
     let half = 0.5 * pairs.iter().map(|p| p.1).sum::<f64>();
     let mut sum = 0.0;
     for &(value, weight) in pairs.iter() {

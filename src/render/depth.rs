@@ -13,6 +13,7 @@
 //! a front part lies over a back part, its edge is a boundary of `S_front` inside the back
 //! part: anti-aliased over the back part's colour.
 
+use crate::sort::{sort_u128, total_order_key};
 use crate::topology::{corner, edge_runs, half_edges};
 
 /// The most levels composited separately: a frame costs one layer, coverage and composite
@@ -31,6 +32,8 @@ pub(super) struct DepthOrder {
     depth: Vec<f64>,
     /// The triangles, sorted by depth (ties in mesh order).
     pub(super) order: Vec<u32>,
+    /// The sort's keys: `(depth, triangle)` packed.
+    keys: Vec<u128>,
     /// `order[level_starts[l]..level_starts[l + 1]]` are the triangles of level `l`.
     pub(super) level_starts: Vec<usize>,
     /// The level of each triangle.
@@ -79,10 +82,13 @@ impl DepthOrder {
         // −0 and +0 are one depth: adding +0 turns −0 into +0, so that `total_cmp` (a
         // total order, needed by the sort) agrees with `==`.
         let key = |t: u32| depth[t as usize] + 0.0;
+        // Sorted by (depth, index): stable by construction.
+        self.keys.clear();
+        self.keys
+            .extend((0..triangles.len() as u32).map(|t| (total_order_key(key(t)) as u128) << 64 | t as u128));
+        sort_u128(&mut self.keys);
         self.order.clear();
-        self.order.extend(0..triangles.len() as u32);
-        // Sorting by (depth, index) is stable by construction, and needs no scratch buffer.
-        self.order.sort_unstable_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+        self.order.extend(self.keys.iter().map(|&k| k as u32));
 
         let distinct = 1 + self.order.windows(2).filter(|w| key(w[0]) != key(w[1])).count();
         let levels = distinct.min(MAX_LEVELS);

@@ -1,0 +1,91 @@
+// A/B benchmark of the two-step path (register, compile, update) between wasm builds in one
+// Node process, interleaved round by round so that the machine's drifting load falls on
+// every build alike: the star meshes of benches/wasm.mjs (about 3k and 30k vertices, 4 pins,
+// a moving drag), the same mesh for every build. Prints a Markdown table per size with each
+// build's medians and its ratio to the first build's.
+//
+//   node benches/ab.mjs [--rounds N] DIR_A DIR_B ...   (each DIR a pkg/ of bash scripts/build-wasm.sh)
+//
+// A build is any package directory with bunraku.js and bunraku_bg.wasm (e.g. pkg/ at an
+// older commit, built in a git worktree).
+
+import { readFileSync } from "node:fs";
+import { gzipSync } from "node:zlib";
+import { resolve } from "node:path";
+import { pathToFileURL } from "node:url";
+import os from "node:os";
+import { spacingFor, star } from "./_star.mjs";
+
+const args = process.argv.slice(2);
+const roundsAt = args.indexOf("--rounds");
+const rounds = roundsAt >= 0 ? Number(args.splice(roundsAt, 2)[1]) : 5;
+const dirs = args;
+if (dirs.length < 2) {
+  console.error("usage: node benches/ab.mjs [--rounds N] DIR_A DIR_B ...");
+  process.exit(2);
+}
+
+const builds = [];
+for (const dir of dirs) {
+  const url = pathToFileURL(resolve(dir) + "/");
+  const bytes = readFileSync(new URL("bunraku_bg.wasm", url));
+  const lib = await import(new URL("bunraku.js", url).href);
+  lib.initSync({ module: bytes });
+  builds.push({ dir, lib, raw: bytes.length, gz: gzipSync(bytes, { level: 9 }).length });
+}
+
+const ms = (f) => {
+  const t = performance.now();
+  f();
+  return performance.now() - t;
+};
+const median = (a) => [...a].sort((x, y) => x - y)[Math.floor((a.length - 1) / 2)];
+
+console.log(`node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores, load ${os.loadavg()[0].toFixed(1)}`);
+console.log("");
+console.log("| build | .wasm bytes | gzipped |");
+console.log("|---|---:|---:|");
+for (const b of builds) console.log(`| ${b.dir} | ${b.raw} | ${b.gz} |`);
+
+// The mesh of the first build, for every build.
+const meshes = [3000, 30000].map((n) => {
+  const m = builds[0].lib.Mesh.fromOutline(star, undefined, { spacing: spacingFor(n) });
+  const out = { vertices: m.vertices, triangles: m.triangles };
+  m.free();
+  return out;
+});
+const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
+const UPDATES = 60;
+
+for (const { vertices, triangles } of meshes) {
+  const times = builds.map(() => ({ register: [], compile: [], update: [] }));
+  for (let r = 0; r < rounds; r++) {
+    builds.forEach((b, k) => {
+      let puppet;
+      times[k].register.push(ms(() => (puppet = b.lib.Puppet.register(vertices, triangles, { method: "two-step" }))));
+      times[k].compile.push(ms(() => puppet.compile(handles)));
+      const out = new Float64Array(vertices.length);
+      const targets = handles.slice();
+      for (let f = 0; f < UPDATES + 20; f++) {
+        targets[2] = handles[2] + 0.3 * Math.sin(f / 10);
+        targets[3] = handles[3] + 0.2 * Math.cos(f / 13);
+        const t = ms(() => puppet.updateInto(targets, out));
+        if (f >= 20) times[k].update.push(t); // after V8's tier-up
+      }
+      puppet.free();
+    });
+  }
+  console.log("");
+  console.log(`${vertices.length / 2} vertices, ${triangles.length / 3} triangles, 4 pins, ${rounds} interleaved rounds:`);
+  console.log("");
+  console.log("| build | register median (ms) | compile median (ms) | update median (ms) | update / first build's |");
+  console.log("|---|---:|---:|---:|---:|");
+  const base = median(times[0].update);
+  builds.forEach((b, k) => {
+    const t = times[k];
+    const u = median(t.update);
+    console.log(
+      `| ${b.dir} | ${median(t.register).toFixed(2)} | ${median(t.compile).toFixed(2)} | ${u.toFixed(3)} | ${(u / base).toFixed(3)} |`,
+    );
+  });
+}
