@@ -237,6 +237,21 @@ code("coincident-handles", () => {
   puppet.free();
 });
 
+code("overlapping-pins", () => {
+  const { puppet, unchanged } = posed();
+  throws(() => puppet.compile(new Float64Array([0.5, 0.5, 1.5, 1.5]), { radius: 1 }), "overlapping-pins", { first: 0, second: 1 }, /^the discs of pins 0 and 1 overlap$/);
+  unchanged();
+  puppet.free();
+});
+
+code("point-outside", () => {
+  const { puppet, unchanged } = posed();
+  throws(() => puppet.setStarch([{ at: [1, 1], amount: 1, extent: 1 }, { at: [9, 9], amount: 1, extent: 1 }]), "point-outside", { index: 1 }, /^starch 1 at \(9, 9\) lies outside the shape$/);
+  throws(() => puppet.setOverlap([{ at: [-1, 1], depth: 1, extent: 1 }]), "point-outside", { index: 0 }, /^overlap 0 at \(-1, 1\) lies outside the shape$/);
+  unchanged();
+  puppet.free();
+});
+
 code("bad-outline", () => {
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 1, 1, 1, 0, 0, 1])), "bad-outline", {}, /^bad outline: .*cross/);
 });
