@@ -111,6 +111,6 @@ test("the TypeScript declarations document the API", () => {
   for (const name of ["static register(", "compile(", "update(", "updateInto(", "static fromOutline("]) {
     assert.ok(dts.includes(name), `bunraku.d.ts declares ${name}`);
   }
-  assert.match(dts, /update\(targets: Float64Array\): Float64Array/);
+  assert.match(dts, /update\(targets: Float64Array, rotations\?: Float64Array\): Float64Array/);
   assert.match(dts, /\* Registers a rest shape/);
 });
