@@ -270,7 +270,7 @@ fn injective_counted_budget_is_reproducible() {
     for (x, y) in ra.iter().zip(&rb) {
         assert_eq!((x.iterations, x.solves, x.converged), (y.iterations, y.solves, y.converged));
         assert!(x.iterations >= 1 || x.converged, "{x:?}");
-        assert!(x.solves <= 7 + x.iterations as usize, "{x:?}");
+        assert!(x.solves <= 7 + x.iterations, "{x:?}");
     }
 }
 
