@@ -15,6 +15,7 @@ import { resolve } from "node:path";
 import { pathToFileURL } from "node:url";
 import os from "node:os";
 import { spacingFor, star } from "./_star.mjs";
+import { median, ms } from "./_time.mjs";
 
 const args = process.argv.slice(2);
 const roundsAt = args.indexOf("--rounds");
@@ -41,12 +42,6 @@ for (const dir of dirs) {
   builds.push({ dir, lib, options, raw: bytes.length, gz: gzipSync(bytes, { level: 9 }).length });
 }
 
-const ms = (f) => {
-  const t = performance.now();
-  f();
-  return performance.now() - t;
-};
-const median = (a) => [...a].sort((x, y) => x - y)[Math.floor((a.length - 1) / 2)];
 
 console.log(`node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores, load ${os.loadavg()[0].toFixed(1)}`);
 console.log("");

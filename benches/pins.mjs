@@ -10,15 +10,10 @@ import { readFileSync } from "node:fs";
 import os from "node:os";
 import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
 import { spacingFor, star } from "./_star.mjs";
+import { median, ms } from "./_time.mjs";
 
 initSync({ module: readFileSync(new URL("../pkg/bunraku_bg.wasm", import.meta.url)) });
 const quick = process.argv.includes("--quick");
-const ms = (f) => {
-  const t = performance.now();
-  f();
-  return performance.now() - t;
-};
-const median = (a) => [...a].sort((x, y) => x - y)[Math.floor((a.length - 1) / 2)];
 
 console.log(`node ${process.version}, ${os.cpus()[0].model}, ${os.cpus().length} cores, load ${os.loadavg()[0].toFixed(1)}`);
 const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);

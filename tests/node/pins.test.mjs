@@ -6,22 +6,11 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, Mesh, Puppet, Renderer } from "../../pkg/bunraku.js";
-import { grid } from "./_grid.mjs";
+import { bar, grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
 const METHODS = ["two-step", "nonlinear", "injective"];
-
-/** A w × h grid of unit squares (two triangles each). */
-function bar(w, h) {
-  const v = [];
-  const t = [];
-  for (let y = 0; y <= h; y++) for (let x = 0; x <= w; x++) v.push(x, y);
-  const id = (x, y) => y * (w + 1) + x;
-  for (let y = 0; y < h; y++)
-    for (let x = 0; x < w; x++) t.push(id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y), id(x + 1, y + 1), id(x, y + 1));
-  return { vertices: new Float64Array(v), triangles: new Uint32Array(t), id };
-}
 
 /** Calls update with the same targets (and rotations) until the puppet converges. */
 function settle(p, targets, rotations, n = 600) {
