@@ -1,9 +1,13 @@
-//! The crate's sorts, all through two instantiations of the standard library's unstable
-//! sort: `u64` and `u128` keys. Every generic `sort_unstable_by` is a copy of the whole
-//! sorting algorithm (quicksort, heapsort, the small-sort networks: 5–9 KB of wasm each);
-//! the call sites had eleven copies, 85 KB of the .wasm before `wasm-opt` (a tenth of its
-//! code). Each site packs what it sorts by into one key, with the item's index or payload
-//! in its low bits, so that equal keys keep a fixed (the original) order.
+//! The crate's sorts through two instantiations of the standard library's unstable sort:
+//! `u64` and `u128` keys. Every generic `sort_unstable_by` is a copy of the whole sorting
+//! algorithm (quicksort, heapsort, the small-sort networks: 5–9 KB of wasm each); the call
+//! sites had eleven copies, 85 KB of the .wasm before `wasm-opt` (a tenth of its code).
+//! Each site packs what it sorts by into one key, with the item's index or payload in its
+//! low bits, so that equal keys keep a fixed (the original) order. Three sorts stay generic:
+//! the half edges (`topology::half_edges`, built for every depth level of a rendered frame,
+//! where a key buffer would be one more allocation a frame) and the matrix columns of
+//! `deform::system` and `deform::nonlinear` (their ties are summed, and another tie order
+//! would change the normal matrices' last bits).
 
 /// Sorts `keys` ascending.
 #[inline(never)]

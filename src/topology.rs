@@ -64,16 +64,9 @@ pub(crate) fn half_edges(triangles: &[[u32; 3]]) -> Vec<HalfEdge> {
             }
         }
     }
-    // (a, b, index, forward) packed in that order: the index is unique, so the key order is
-    // the tuples' order.
-    let mut keys: Vec<u128> = half
-        .iter()
-        .map(|&(a, b, i, f)| (a as u128) << 96 | (b as u128) << 64 | (i as u128) << 1 | f as u128)
-        .collect();
-    crate::sort::sort_u128(&mut keys);
-    for (h, k) in half.iter_mut().zip(keys) {
-        *h = ((k >> 96) as u32, (k >> 64) as u32, ((k as u64) >> 1) as u32, k & 1 == 1);
-    }
+    // Sorted in place (not through src/sort.rs's packed keys): the renderer builds these
+    // for every depth level, and a key buffer would be one more allocation a frame.
+    half.sort_unstable();
     half
 }
 
