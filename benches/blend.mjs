@@ -5,7 +5,8 @@
 // handles and drag of benches/wasm.mjs). The three are timed in alternating rounds (a
 // median of many calls each per round), so that a slow spell of the machine hits all of
 // them; the table gives each one's fastest round and the ratios of those, and the median
-// of the per-round ratios. Prints a Markdown table. Run on its own or from benches/wasm.mjs.
+// of the per-round ratios. Prints a Markdown table, then the issue's targets as met or not in
+// this run.
 //
 //   node benches/blend.mjs [--quick]
 
@@ -49,6 +50,8 @@ console.log(
   "| vertices | triangles | register (ms) | addPose (ms) | two-step update (ms) | blendInto, 2 poses (ms) | × update (round median) | blendInto, 16 poses (ms) | × update (round median) |",
 );
 console.log("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+const verdicts = [];
+const met = (ok) => (ok ? "met" : "not met");
 for (const target of [3000, 30000]) {
   const mesh = Mesh.fromOutline(star, undefined, { spacing: spacingFor(target) });
   const [vertices, triangles] = [mesh.vertices, mesh.triangles];
@@ -65,7 +68,7 @@ for (const target of [3000, 30000]) {
   const targets = new Float64Array(handles);
   const two = new Float64Array(16);
   two[3] = two[11] = 0.5;
-  const all = new Float64Array(16).map((_, k) => (k - 7) / 40);
+  const all = new Float64Array(16).map((_, k) => (k - 7.5) / 40);
   // Warm-up (not timed): V8 first runs the wasm through its baseline compiler.
   for (let f = 0; f < 20; f++) {
     puppet.updateInto(handles, out);
@@ -101,7 +104,15 @@ for (const target of [3000, 30000]) {
       `${u.toFixed(3)} | ${x.toFixed(3)} | ${(x / u).toFixed(2)} (${median(r2).toFixed(2)}) | ` +
       `${y.toFixed(3)} | ${(y / u).toFixed(2)} (${median(r16).toFixed(2)}) |`,
   );
+  const n = blender.vertexCount;
+  if (target === 3000) verdicts.push(`blendInto with 2 poses at ${n} vertices ≤ 0.5 ms: ${met(x <= 0.5)} (${x.toFixed(3)} ms)`);
+  else {
+    verdicts.push(`blendInto with 2 poses at ${n} vertices ≤ one update: ${met(x <= u)} (${(x / u).toFixed(2)}×)`);
+    verdicts.push(`blendInto with 16 poses at ${n} vertices ≤ 3 updates: ${met(y <= 3 * u)} (${(y / u).toFixed(2)}×)`);
+  }
   blender.free();
   puppet.free();
   mesh.free();
 }
+console.log("");
+for (const v of verdicts) console.log(`- ${v}`);

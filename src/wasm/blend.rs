@@ -13,7 +13,10 @@ use crate::Error;
 /// Poses of one rest mesh, blended by weights: rotations blend by their angles and
 /// stretches by their logarithms, so that half of a 120° turn is the 60° turn at full size
 /// (a linear blend of the vertices shrinks it to half), and weights outside [0, 1]
-/// extrapolate.
+/// extrapolate. This is S. Kaji's Blend_C (arXiv:1601.04816, equation 3) with the `E_T`
+/// stitching of equation 4 (`bunraku::blend` in the Rust docs lists where it departs from
+/// the paper: no tetrisation in 2D, area weights, the position from the blended centroids,
+/// angles unwrapped along the smallest jumps and towards a chosen branch).
 ///
 /// ```js
 /// const blender = Blender.register(mesh.vertices, mesh.triangles);
@@ -54,7 +57,8 @@ impl JsBlender {
 
     /// Adds a pose, `[x0, y0, x1, y1, …]` one position per vertex (e.g. `puppet.positions`),
     /// and returns its index: the place of its weight in `blend`'s weights. Each triangle's
-    /// map from rest is split into a rotation and a stretch, and the rotation angles are
+    /// map from rest (equation 2) is split into a rotation and a stretch (the polar
+    /// decomposition, §5, in closed form), and the rotation angles are
     /// unwrapped continuously over the mesh (so that turns past 180° blend the long way
     /// round), towards `options.nearAngle` or `options.nearPose` when given. Throws
     /// `bad-length`, `non-finite`, `too-large`, or `flipped-triangles` (with the count and
@@ -133,7 +137,10 @@ impl JsBlender {
     }
 
     /// Like `blend`, but writes the positions into `out` (a `Float64Array` of length
-    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame.
+    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame. Per
+    /// call: Blend_C for every triangle (equation 3), one back-substitution with the factor
+    /// made in `register` (`E_T`, equation 4), plus one per `iterations` step; nothing is
+    /// factorised.
     #[wasm_bindgen(js_name = blendInto)]
     pub fn blend_into(
         &mut self,
