@@ -48,13 +48,13 @@ fn register_compile_update_rigid() {
         assert_eq!(p.triangle_count(), 24);
         assert_eq!(p.weights(), weights);
         let handles = [0.5, 0.5, 3.5, 0.5, 2.0, 2.5];
-        p.compile(f64s(&handles)).unwrap();
+        p.compile(f64s(&handles), JsValue::UNDEFINED).unwrap();
         assert_eq!(p.handle_count(), 3);
         assert_eq!(p.handles().to_vec(), handles.to_vec());
         // A rotation by 90° and a translation far from the origin.
         let m = |x: f64, y: f64| [-y + 1000.0, x - 500.0];
         let targets: Vec<f64> = handles.chunks(2).flat_map(|c| m(c[0], c[1])).collect();
-        let out = p.update(f64s(&targets)).unwrap().to_vec();
+        let out = p.update(f64s(&targets), JsValue::UNDEFINED).unwrap().to_vec();
         assert_eq!(out.len(), 40);
         for (k, c) in v.chunks(2).enumerate() {
             let e = m(c[0], c[1]);
@@ -62,7 +62,7 @@ fn register_compile_update_rigid() {
         }
         // updateInto writes the same numbers into the caller's array.
         let buf = Float64Array::new_with_length(40);
-        p.update_into(f64s(&targets), buf.clone().into()).unwrap();
+        p.update_into(f64s(&targets), buf.clone().into(), JsValue::UNDEFINED).unwrap();
         assert_eq!(buf.to_vec(), out);
         assert_eq!(p.positions().to_vec(), out);
     }
@@ -72,9 +72,9 @@ fn register_compile_update_rigid() {
 fn untouched_handles_return_rest_and_uncompiled_is_rest() {
     let (v, t) = grid();
     let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
-    assert_eq!(p.update(f64s(&[])).unwrap().to_vec(), v);
-    p.compile(f64s(&[0.2, 0.2, 3.9, 2.9])).unwrap();
-    let out = p.update(p.handles().into()).unwrap().to_vec();
+    assert_eq!(p.update(f64s(&[]), JsValue::UNDEFINED).unwrap().to_vec(), v);
+    p.compile(f64s(&[0.2, 0.2, 3.9, 2.9]), JsValue::UNDEFINED).unwrap();
+    let out = p.update(p.handles().into(), JsValue::UNDEFINED).unwrap().to_vec();
     for (a, b) in out.iter().zip(&v) {
         assert!((a - b).abs() < 1e-9);
     }
@@ -119,37 +119,37 @@ fn bad_register_input_names_the_item() {
 fn failed_calls_leave_the_puppet_as_it_was() {
     let (v, t) = grid();
     let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
-    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
+    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5]), JsValue::UNDEFINED).unwrap();
     let targets = f64s(&[0.0, 0.0, 4.0, 3.0]);
-    let before = p.update(targets.clone()).unwrap().to_vec();
+    let before = p.update(targets.clone(), JsValue::UNDEFINED).unwrap().to_vec();
 
-    let e = message(p.compile(f64s(&[0.5, 0.5, 9.0, 9.0])).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 9.0, 9.0]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("handle 1") && e.contains("outside"), "{e}");
-    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5, 0.5])).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5, 0.5]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("handles 0 and 1"), "{e}");
-    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5])).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, 0.5, 0.5]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("handles") && e.contains('3'), "{e}");
-    let e = message(p.compile(f64s(&[0.5, f64::INFINITY])).err().unwrap());
+    let e = message(p.compile(f64s(&[0.5, f64::INFINITY]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("handle"), "{e}");
-    let e = message(p.compile_vertices(u32s(&[0, 20])).err().unwrap());
+    let e = message(p.compile_vertices(u32s(&[0, 20]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("handle 1") && e.contains("20"), "{e}");
 
-    let e = message(p.update(f64s(&[0.0, 0.0])).err().unwrap());
+    let e = message(p.update(f64s(&[0.0, 0.0]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("targets") && e.contains("got 2") && e.contains("expected 4"), "{e}");
-    let e = message(p.update(f64s(&[0.0, 0.0, f64::NAN, 3.0])).err().unwrap());
+    let e = message(p.update(f64s(&[0.0, 0.0, f64::NAN, 3.0]), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("item 1"), "{e}");
-    let e = failure(p.update(JsValue::from_str("nope")).err().unwrap());
+    let e = failure(p.update(JsValue::from_str("nope"), JsValue::UNDEFINED).err().unwrap());
     assert_eq!(
         (e.code.as_str(), e.message.as_str()),
         ("bad-type", "targets: expected a Float64Array, got string")
     );
-    let e = failure(p.update_into(targets.clone(), js_sys::Array::new().into()).err().unwrap());
+    let e = failure(p.update_into(targets.clone(), js_sys::Array::new().into(), JsValue::UNDEFINED).err().unwrap());
     assert_eq!(e.message, "out: expected a Float64Array, got Array");
-    let e = message(p.update_into(targets.clone(), Float64Array::new_with_length(3).into()).err().unwrap());
+    let e = message(p.update_into(targets.clone(), Float64Array::new_with_length(3).into(), JsValue::UNDEFINED).err().unwrap());
     assert!(e.contains("output length") && e.contains("got 3"), "{e}");
 
     assert_eq!(p.handle_count(), 2);
-    assert_eq!(p.update(targets).unwrap().to_vec(), before);
+    assert_eq!(p.update(targets, JsValue::UNDEFINED).unwrap().to_vec(), before);
 }
 
 #[wasm_bindgen_test]
@@ -157,10 +157,10 @@ fn vertex_handles_equal_point_handles_on_vertices() {
     let (v, t) = grid();
     let mut a = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
     let mut b = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
-    a.compile_vertices(u32s(&[0, 19, 7])).unwrap();
-    b.compile(f64s(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0])).unwrap();
+    a.compile_vertices(u32s(&[0, 19, 7]), JsValue::UNDEFINED).unwrap();
+    b.compile(f64s(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0]), JsValue::UNDEFINED).unwrap();
     let targets = f64s(&[-1.0, 0.0, 5.0, 4.0, 2.5, 0.5]);
-    assert_eq!(a.update(targets.clone()).unwrap().to_vec(), b.update(targets).unwrap().to_vec());
+    assert_eq!(a.update(targets.clone(), JsValue::UNDEFINED).unwrap().to_vec(), b.update(targets, JsValue::UNDEFINED).unwrap().to_vec());
 }
 
 #[wasm_bindgen_test]
@@ -168,8 +168,8 @@ fn errors_speak_javascript() {
     let (v, t) = grid();
     // Numbers as JS prints them.
     let mut p = Puppet::register(f64s(&v), u32s(&t), two_step()).unwrap();
-    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5])).unwrap();
-    let e = failure(p.update(f64s(&[0.0, 0.0, 4.0, -2e100])).err().unwrap());
+    p.compile(f64s(&[0.5, 0.5, 3.5, 2.5]), JsValue::UNDEFINED).unwrap();
+    let e = failure(p.update(f64s(&[0.0, 0.0, 4.0, -2e100]), JsValue::UNDEFINED).err().unwrap());
     assert_eq!(e.code, "too-large");
     assert_eq!(e.message, "targets: item 1 has a coordinate -2e+100 beyond ±1e+100");
     assert_eq!((e.number("index"), e.number("item"), e.number("limit")), (Some(3.0), Some(1.0), Some(1e100)));

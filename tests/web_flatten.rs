@@ -60,8 +60,8 @@ fn puppet_quality() {
     let mut p = Puppet::register(f64s(&v), u32s(&t), JsValue::UNDEFINED).unwrap();
     let q = p.quality().unwrap();
     assert_eq!(get(&get(&q, "isometric"), "max").as_f64(), Some(0.0));
-    p.compile(f64s(&[0.0, 0.0, 1.0, 1.0])).unwrap();
-    p.update(Float64Array::from(&[0.0, 0.0, 1.5, 0.5][..]).into()).unwrap();
+    p.compile(f64s(&[0.0, 0.0, 1.0, 1.0]), JsValue::UNDEFINED).unwrap();
+    p.update(Float64Array::from(&[0.0, 0.0, 1.5, 0.5][..]).into(), JsValue::UNDEFINED).unwrap();
     let q = p.quality().unwrap();
     assert!(get(&get(&q, "isometric"), "max").as_f64().unwrap() > 0.0);
     assert_eq!(get(&q, "flipped").as_f64(), Some(0.0));

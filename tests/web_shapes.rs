@@ -42,7 +42,7 @@ fn from_image_feeds_register() {
         let v = mesh.vertices().to_vec();
         assert!((uvs[0] as f64 - v[0] / 64.0).abs() < 1e-6 && (uvs[1] as f64 - v[1] / 48.0).abs() < 1e-6);
         let mut p = Puppet::register(f64s(&v), mesh.triangles().into(), JsValue::UNDEFINED).unwrap();
-        p.compile(f64s(&[30.0, 24.0, 40.0, 24.0])).unwrap();
+        p.compile(f64s(&[30.0, 24.0, 40.0, 24.0]), JsValue::UNDEFINED).unwrap();
     }
 }
 
