@@ -143,9 +143,15 @@ fn failed_calls_leave_the_puppet_as_it_was() {
         (e.code.as_str(), e.message.as_str()),
         ("bad-type", "targets: expected a Float64Array, got string")
     );
-    let e = failure(p.update_into(targets.clone(), js_sys::Array::new().into(), JsValue::UNDEFINED).err().unwrap());
+    let e = failure(
+        p.update_into(targets.clone(), js_sys::Array::new().into(), JsValue::UNDEFINED).err().unwrap(),
+    );
     assert_eq!(e.message, "out: expected a Float64Array, got Array");
-    let e = message(p.update_into(targets.clone(), Float64Array::new_with_length(3).into(), JsValue::UNDEFINED).err().unwrap());
+    let e = message(
+        p.update_into(targets.clone(), Float64Array::new_with_length(3).into(), JsValue::UNDEFINED)
+            .err()
+            .unwrap(),
+    );
     assert!(e.contains("output length") && e.contains("got 3"), "{e}");
 
     assert_eq!(p.handle_count(), 2);
@@ -160,7 +166,10 @@ fn vertex_handles_equal_point_handles_on_vertices() {
     a.compile_vertices(u32s(&[0, 19, 7]), JsValue::UNDEFINED).unwrap();
     b.compile(f64s(&[0.0, 0.0, 4.0, 3.0, 2.0, 1.0]), JsValue::UNDEFINED).unwrap();
     let targets = f64s(&[-1.0, 0.0, 5.0, 4.0, 2.5, 0.5]);
-    assert_eq!(a.update(targets.clone(), JsValue::UNDEFINED).unwrap().to_vec(), b.update(targets, JsValue::UNDEFINED).unwrap().to_vec());
+    assert_eq!(
+        a.update(targets.clone(), JsValue::UNDEFINED).unwrap().to_vec(),
+        b.update(targets, JsValue::UNDEFINED).unwrap().to_vec()
+    );
 }
 
 #[wasm_bindgen_test]
