@@ -19,11 +19,11 @@
 import type { Answer, PuppetWorker } from "./client.js";
 import { exportWithOverlays } from "./exporter.js";
 import { FrameLoop, type SolveStamp } from "./frames.js";
-import { anchorAt, follow, turnAt } from "./locate.js";
+import { anchorAt, follow, turnAt, type Anchor } from "./locate.js";
 import { Overlay, ringRadius, type PinMark, type RegionMark } from "./overlay.js";
-import type { Picture } from "./picture.js";
+import { pictureDataURL, pictureFromURL, type Picture } from "./picture.js";
 import type { PinBoard, Tool } from "./pointer.js";
-import { toError, type Method, type OpenBody, type OpenResult, type PinKind, type PinPlan, type RegisterOptions } from "./protocol.js";
+import { toError, type DocumentData, type Method, type OpenBody, type OpenResult, type PinKind, type PinPlan, type RegisterOptions } from "./protocol.js";
 import { Regions, starchPerTriangle, type RegionKind } from "./regions.js";
 import { hasDepth, type PictureRenderer } from "./renderer.js";
 import { newVersion, Rig, turns, type Pin } from "./rig.js";
@@ -102,6 +102,25 @@ export class App implements PinBoard {
   private pictureDirty = true;
   private restoring = false;
   private waiters: (() => void)[] = [];
+
+  /** The saved poses (copies, for the test hook), the blend weights waiting to be sent,
+   *  whether a blend is in flight. */
+  private poseList: Float64Array[] = [];
+  private readonly blending: { weights: Float64Array | null; inFlight: boolean } = { weights: null, inFlight: false };
+  /** Whether updates are recorded now. */
+  private recordingOn = false;
+  /** Playback: when it started (page clock, ms), how long it lasts (s), whether a frame is
+   *  in flight, and who waits for its end. */
+  private playback: { start: number; duration: number; inFlight: boolean; ended: (() => void)[] } | null = null;
+  /** Whether playback repeats. */
+  loop = false;
+  /** How many playbacks have ended (or been stopped). */
+  playsEnded = 0;
+  /** Told when the poses, recording or playback change (the panel redraws). */
+  onAnimationChange: () => void = () => {};
+  /** Where each pin of the set shown is on the rest mesh, to draw the pins on poses the
+   *  puppet did not solve (blends, playback). */
+  private anchors: { rig: Rig; version: number; anchors: (Anchor | null)[] } | null = null;
 
   private readonly stage: HTMLCanvasElement;
   private readonly renderer: PictureRenderer;
@@ -388,6 +407,7 @@ export class App implements PinBoard {
   }
 
   dragPin(id: number, x: number, y: number): void {
+    this.endPlayback();
     this.rig?.moveTarget(id, ...this.view.toPicture(x, y));
     this.requestSolve();
     this.frames.request(); // the pin follows now; the picture when its pose comes back
@@ -435,6 +455,303 @@ export class App implements PinBoard {
     const at: [number, number] = [rest[0], rest[1]];
     if (kind === "starch") this.sendStarch(rig, this.regions.starch.add({ region: { at, amount: this.amounts.starch, extent }, anchor }));
     else this.sendOverlap(rig, this.regions.overlap.add({ region: { at, depth: this.amounts.overlap, extent }, anchor }));
+  }
+
+  // --- poses, blends, recording, playback, documents, video ---
+
+  get poses(): readonly Float64Array[] {
+    return this.poseList;
+  }
+
+  get recording(): boolean {
+    return this.recordingOn;
+  }
+
+  get playing(): boolean {
+    return this.playback !== null;
+  }
+
+  /** Adds the pose on screen to the poses (the worker's blender). */
+  async savePose(): Promise<boolean> {
+    const rig = this.rig;
+    if (!rig || !this.live) return false;
+    const positions = rig.positions.slice();
+    this.busy++;
+    try {
+      const answer = await this.worker.call("savePose", { generation: rig.generation, positions: positions.slice() });
+      if (answer.status !== "ok" || rig !== this.rig) {
+        if (answer.status === "error") this.status.error(answer.error, "the pose was not saved");
+        return false;
+      }
+      this.poseList = [...this.poseList, positions];
+      this.onAnimationChange();
+      return true;
+    } finally {
+      this.busy--;
+      this.checkSettled();
+    }
+  }
+
+  async removePose(index: number): Promise<void> {
+    const rig = this.rig;
+    if (!rig || !this.live || !this.poseList[index]) return;
+    this.busy++;
+    const answer = await this.worker.call("removePose", { generation: rig.generation, index });
+    this.busy--;
+    if (answer.status === "ok" && rig === this.rig) {
+      this.poseList = this.poseList.filter((_, k) => k !== index);
+      this.onAnimationChange();
+    }
+    this.checkSettled();
+  }
+
+  /** Shows the poses blended with `weights` (one per pose; the rest weighs 1 − Σ). At
+   *  most one blend is in flight; the newest weights go when it comes back. */
+  blend(weights: ArrayLike<number>): void {
+    if (weights.length !== this.poseList.length || this.poseList.length === 0) return;
+    this.endPlayback();
+    this.blending.weights = Float64Array.from(weights);
+    this.pumpBlend();
+  }
+
+  private pumpBlend(): void {
+    const rig = this.rig;
+    const b = this.blending;
+    if (!b.weights || b.inFlight || !rig || !this.live) return this.checkSettled();
+    const weights = b.weights;
+    b.weights = null;
+    b.inFlight = true;
+    const sent = performance.now();
+    void this.worker.call("blend", { generation: rig.generation, weights, out: new Float64Array(rig.rest.length) }).then((answer) => {
+      b.inFlight = false;
+      if (answer.status === "ok" && rig === this.rig) this.showPose(rig, answer.result.positions, answer.result.ms, sent);
+      else if (answer.status === "error" && rig === this.rig) this.status.error(answer.error);
+      this.pumpBlend();
+    });
+  }
+
+  /** Puts `positions` (not a solve of the puppet: a blend or a played frame) on screen,
+   *  with the pins drawn where their material is on them. */
+  private showPose(rig: Rig, positions: Float64Array, ms: number, sent: number): void {
+    rig.positions = positions;
+    if (this.anchors?.rig !== rig || this.anchors.version !== rig.version) {
+      this.anchors = { rig, version: rig.version, anchors: rig.pins.map((p) => anchorAt(rig.rest, rig.triangles, ...p.rest)) };
+    }
+    const anchors = this.anchors.anchors;
+    rig.pinPositions = Float64Array.from(rig.pins.flatMap((p, k) => {
+      const a = anchors[k];
+      return a ? follow(positions, rig.triangles, a) : p.target;
+    }));
+    rig.shownVersion = rig.version;
+    this.spare = null;
+    this.fresh = { solveMs: ms, roundTripMs: performance.now() - sent };
+    this.lastSolveMs = ms;
+    this.pictureDirty = true;
+    this.frames.request();
+  }
+
+  /** Starts recording the pins' targets (every update from now on, at the page's clock),
+   *  or stops. */
+  async setRecording(on: boolean): Promise<void> {
+    const rig = this.rig;
+    if (!rig || !this.live || on === this.recordingOn) return;
+    if (on) this.endPlayback();
+    this.recordingOn = on;
+    this.onAnimationChange();
+    this.busy++;
+    const answer = await this.worker.call("record", {
+      generation: rig.generation,
+      on,
+      time: performance.now() / 1000,
+      targets: rig.targets.slice(),
+      rotations: rig.rotations.slice(),
+    });
+    this.busy--;
+    if (answer.status === "ok" && rig === this.rig && !on) this.status.info(`recorded ${answer.result.samples} samples, ${answer.result.duration.toFixed(2)} s`);
+    else if (answer.status === "error" && rig === this.rig) {
+      this.status.error(answer.error, "could not record");
+      this.recordingOn = false;
+      this.onAnimationChange();
+    }
+    this.checkSettled();
+  }
+
+  /** Plays the recording (or the opened document) from its start; resolves when it ends
+   *  (at once when there is nothing to play, or when it is stopped). */
+  async play(): Promise<void> {
+    const rig = this.rig;
+    if (!rig || !this.live) return;
+    if (this.recordingOn) await this.setRecording(false);
+    this.busy++;
+    const answer = await this.worker.call("play", { generation: rig.generation });
+    this.busy--;
+    this.checkSettled();
+    if (answer.status !== "ok" || rig !== this.rig) {
+      if (answer.status === "error") this.status.error(answer.error, "could not play");
+      return;
+    }
+    if (answer.result.mode === "still") return this.status.info("nothing to play: record a drag first");
+    this.endPlayback();
+    const ended: (() => void)[] = [];
+    const done = new Promise<void>((resolve) => ended.push(resolve));
+    this.playback = { start: performance.now(), duration: answer.result.duration, inFlight: false, ended };
+    this.onAnimationChange();
+    this.frames.request();
+    return done;
+  }
+
+  /** Stops playback where it is. */
+  endPlayback(): void {
+    const p = this.playback;
+    if (!p) return;
+    this.playback = null;
+    this.playsEnded++;
+    for (const resolve of p.ended) resolve();
+    this.onAnimationChange();
+    this.checkSettled();
+  }
+
+  /** Asks for the frame of playback at the current time (one in flight at most; each frame
+   *  drawn asks for the next). */
+  private playFrame(rig: Rig): void {
+    const p = this.playback;
+    if (!p || p.inFlight || !this.live) return;
+    let t = (performance.now() - p.start) / 1000;
+    let last = false;
+    if (this.loop && p.duration > 0) t %= p.duration;
+    else if (t >= p.duration) [t, last] = [p.duration, true];
+    p.inFlight = true;
+    const sent = performance.now();
+    void this.worker.call("playFrame", { generation: rig.generation, time: t, out: new Float64Array(rig.rest.length) }).then((answer) => {
+      p.inFlight = false;
+      if (this.playback !== p || rig !== this.rig) return this.checkSettled();
+      if (answer.status === "ok") {
+        const { positions, targets, rotations, ms } = answer.result;
+        if (targets && rotations && targets.length === rig.targets.length) {
+          rig.pins.forEach((pin, k) => {
+            rig.moveTarget(pin.id, targets[2 * k], targets[2 * k + 1]);
+            rig.turnPin(pin.id, rotations[2 * k], rotations[2 * k + 1]);
+          });
+        }
+        this.showPose(rig, positions, ms, sent);
+        if (last) this.endPlayback();
+      } else {
+        if (answer.status === "error") this.status.error(answer.error, "playback stopped");
+        this.endPlayback();
+      }
+      this.checkSettled();
+    });
+  }
+
+  /** The puppet as a document (docs/puppet-document.md): the picture by its URL, or
+   *  embedded as a data URL when it is the user's own. */
+  async documentJSON(): Promise<string | null> {
+    const rig = this.rig;
+    if (!rig || !this.live) return null;
+    const { pixels, url } = rig.picture;
+    const picture = { url: url && !url.startsWith("blob:") ? url : pictureDataURL(rig.picture), width: pixels.width, height: pixels.height };
+    this.busy++;
+    const answer = await this.worker.call("document", { generation: rig.generation, picture, loop: this.loop });
+    this.busy--;
+    this.checkSettled();
+    if (answer.status !== "ok") {
+      if (answer.status === "error") this.status.error(answer.error, "could not save the document");
+      return null;
+    }
+    return JSON.stringify(answer.result.document);
+  }
+
+  /** Opens a puppet document (its JSON text) and plays it. Resolves to whether it opened. */
+  async openDocument(text: string, name: string): Promise<boolean> {
+    const generation = ++this.generation;
+    this.busy++;
+    try {
+      let doc: DocumentData;
+      try {
+        doc = JSON.parse(text) as DocumentData;
+      } catch (e) {
+        this.status.error(e, `${name} is not JSON`);
+        return false;
+      }
+      const pictureField = doc.picture as { url?: unknown } | undefined;
+      if (typeof pictureField?.url !== "string") {
+        this.status.error(`${name} has no picture (picture.url)`);
+        return false;
+      }
+      this.status.info(`opening ${name}…`);
+      let picture: Picture;
+      try {
+        const url = pictureField.url;
+        // The document's own URL is kept (a relative one stays relative when saved again).
+        picture = { ...(await pictureFromURL(new URL(url, location.href), name.replace(/\.bunraku\.json$|\.json$/, ""))), url };
+      } catch (e) {
+        if (generation === this.generation) this.status.error(e, name);
+        return false;
+      }
+      if (generation !== this.generation) return false;
+      const answer = await this.worker.call("loadDocument", { generation, text, version: newVersion() });
+      if (generation !== this.generation) {
+        if (answer.status === "ok") this.release(generation);
+        return false;
+      }
+      if (answer.status !== "ok") {
+        if (answer.status !== "dropped") this.status.error(answer.error, name);
+        return false;
+      }
+      this.loop = answer.result.loop;
+      this.install(picture, answer.result.opened, { refitted: `${name}: its pins do not fit; pinned automatically` });
+      this.poseList = answer.result.poses;
+      this.onAnimationChange();
+    } finally {
+      this.busy--;
+      this.checkSettled();
+    }
+    void this.play();
+    return true;
+  }
+
+  /** Plays the animation once from its start into a video: WebM through MediaRecorder on
+   *  the stage's stream where the browser has both, else one PNG per frame at `fps`. */
+  async exportVideo(fps = 30): Promise<{ kind: "webm"; blob: Blob } | { kind: "png"; frames: Blob[] } | null> {
+    const rig = this.rig;
+    if (!rig || !this.live) return null;
+    const loop = this.loop;
+    const canRecord = typeof MediaRecorder !== "undefined" && typeof this.stage.captureStream === "function";
+    if (canRecord) {
+      const type = ["video/webm;codecs=vp9", "video/webm;codecs=vp8", "video/webm"].find((t) => MediaRecorder.isTypeSupported(t));
+      if (type) {
+        const recorder = new MediaRecorder(this.stage.captureStream(fps), { mimeType: type });
+        const chunks: Blob[] = [];
+        recorder.addEventListener("dataavailable", (e) => {
+          if (e.data.size > 0) chunks.push(e.data);
+        });
+        const stopped = new Promise<void>((resolve) => recorder.addEventListener("stop", () => resolve()));
+        recorder.start();
+        this.loop = false;
+        try {
+          await this.play();
+        } finally {
+          this.loop = loop;
+        }
+        recorder.stop();
+        await stopped;
+        return { kind: "webm", blob: new Blob(chunks, { type: "video/webm" }) };
+      }
+    }
+    // PNG frames: each time step played, drawn and read back.
+    const answer = await this.worker.call("play", { generation: rig.generation });
+    if (answer.status !== "ok" || answer.result.mode === "still") return null;
+    this.endPlayback();
+    const frames: Blob[] = [];
+    const count = Math.max(1, Math.round(answer.result.duration * fps) + 1);
+    for (let k = 0; k < count; k++) {
+      const sent = performance.now();
+      const frame = await this.worker.call("playFrame", { generation: rig.generation, time: Math.min(k / fps, answer.result.duration), out: new Float64Array(rig.rest.length) });
+      if (frame.status !== "ok" || rig !== this.rig) return null;
+      this.showPose(rig, frame.result.positions, frame.result.ms, sent);
+      frames.push(await this.exportPNG(false));
+    }
+    return { kind: "png", frames };
   }
 
   // --- internals ---
@@ -499,6 +816,10 @@ export class App implements PinBoard {
     this.rig = rig;
     this.live = true;
     this.spare = null;
+    this.poseList = [];
+    this.recordingOn = false;
+    this.endPlayback();
+    this.onAnimationChange();
     this.selected = null;
     this.lastSolveMs = opened.stats.solveMs;
     this.status.mesh(picture.name, rig.vertexCount, rig.triangleCount);
@@ -637,7 +958,7 @@ export class App implements PinBoard {
     this.spare = null;
     const sent = performance.now();
     void this.worker
-      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, rotations: rig.rotations, out }, [out.buffer])
+      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, rotations: rig.rotations, out, time: sent / 1000 }, [out.buffer])
       .then((answer: Answer<"update">) => {
         s.inFlight = false;
         if (answer.status === "ok" && rig === this.rig && answer.result.positions.length === n) {
@@ -666,7 +987,7 @@ export class App implements PinBoard {
     const s = this.solving;
     const f = this.flips;
     const live = this.live && this.rig !== null;
-    return this.busy === 0 && !s.inFlight && !s.scheduled && !(s.dirty && live) && !f.inFlight && !(f.stale && live);
+    return this.busy === 0 && !this.blending.inFlight && !this.blending.weights && !this.playback?.inFlight && !s.inFlight && !s.scheduled && !(s.dirty && live) && !f.inFlight && !(f.stale && live);
   }
 
   private checkSettled(): void {
@@ -725,6 +1046,7 @@ export class App implements PinBoard {
     if (!rig) return null;
     const solve = this.fresh;
     this.fresh = null;
+    this.playFrame(rig);
     try {
       if (this.pictureDirty) {
         this.pictureDirty = false;

@@ -55,6 +55,15 @@ export interface DemoHook {
   settled(): Promise<void>;
   /** Makes the worker fail as a wasm panic would (the page must start a new one). */
   crashWorker(): void;
+  /** The pose on screen `[x0, y0, …]`, the rest mesh, and the saved poses (plain arrays). */
+  positions(): number[] | null;
+  restMesh(): { vertices: number[]; triangles: number[] } | null;
+  poses(): number[][];
+  /** Whether the pins are being recorded, whether playback runs. */
+  recording(): boolean;
+  playing(): boolean;
+  /** How many playbacks have ended or been stopped. */
+  playsEnded(): number;
 }
 
 declare global {
@@ -102,5 +111,17 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     pending: () => app.pending(),
     settled: () => app.settled(),
     crashWorker: () => void worker.call("crash", null),
+    positions: () => {
+      const rig = app.current?.rig;
+      return rig ? Array.from(rig.positions) : null;
+    },
+    restMesh: () => {
+      const rig = app.current?.rig;
+      return rig ? { vertices: Array.from(rig.rest), triangles: Array.from(rig.triangles) } : null;
+    },
+    poses: () => app.poses.map((p) => Array.from(p)),
+    recording: () => app.recording,
+    playing: () => app.playing,
+    playsEnded: () => app.playsEnded,
   };
 }

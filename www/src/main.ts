@@ -2,6 +2,7 @@
 // puppet's download at once, picks a renderer, and wires the stage, the toolbar and the
 // status panel to the app.
 
+import { attachAnimation } from "./animation.js";
 import { App } from "./app.js";
 import { PuppetWorker } from "./client.js";
 import { attachControls, download } from "./controls.js";
@@ -100,6 +101,44 @@ async function main(status: Status): Promise<void> {
       },
     },
   );
+  const baseName = () => theApp.current?.picture.name.replace(/\.[^.]*$/, "") ?? "bunraku";
+  const refresh = attachAnimation(
+    {
+      savePose: element("save-pose", HTMLButtonElement),
+      poseList: element("pose-list", HTMLOListElement),
+      blendField: element("blend-field", HTMLElement),
+      blend: element("blend", HTMLInputElement),
+      blendValue: element("blend-value", HTMLOutputElement),
+      blendPad: element("blend-pad", HTMLCanvasElement),
+      record: element("record", HTMLButtonElement),
+      play: element("play", HTMLButtonElement),
+      loop: element("loop", HTMLInputElement),
+      saveDoc: element("save-doc", HTMLButtonElement),
+      openDoc: element("open-doc", HTMLInputElement),
+      exportVideo: element("export-video", HTMLButtonElement),
+    },
+    {
+      savePose: () => void theApp.savePose(),
+      removePose: (k) => void theApp.removePose(k),
+      blend: (weights) => theApp.blend(weights),
+      setRecording: (on) => void theApp.setRecording(on),
+      play: () => void theApp.play(),
+      setLoop: (on) => (theApp.loop = on),
+      saveDocument: () =>
+        void theApp.documentJSON().then((text) => {
+          if (text !== null) download(new Blob([text], { type: "application/json" }), `${baseName()}.bunraku.json`);
+        }),
+      openDocument: (file) => void file.text().then((text) => theApp.openDocument(text, file.name), (e: unknown) => status.error(e)),
+      exportVideo: () =>
+        void theApp.exportVideo().then((video) => {
+          if (!video) return status.info("nothing to export: record a drag first");
+          if (video.kind === "webm") download(video.blob, `${baseName()}.webm`);
+          else video.frames.forEach((frame, k) => download(frame, `${baseName()}-${String(k).padStart(4, "0")}.png`));
+        }, (e: unknown) => status.error(e)),
+    },
+  );
+  theApp.onAnimationChange = () => refresh({ poseCount: theApp.poses.length, recording: theApp.recording, playing: theApp.playing, loop: theApp.loop });
+  theApp.onAnimationChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
   if (__TEST__) exposeHook(theApp, stage, renderer.name, worker);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);

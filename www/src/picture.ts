@@ -5,6 +5,8 @@
 export interface Picture {
   readonly name: string;
   readonly pixels: ImageData;
+  /** Where it was loaded from (not for the user's own files): a document refers to it. */
+  readonly url?: string;
 }
 
 /** Pictures are scaled down to at most this many pixels on their longer side. Meshing
@@ -34,7 +36,18 @@ export const DEFAULT_PUPPET = {
 export async function pictureFromURL(url: string | URL, name: string): Promise<Picture> {
   const response = await fetch(url);
   if (!response.ok) throw new Error(`could not load ${name}: HTTP ${response.status} for ${String(url)}`);
-  return decode(await response.blob(), name);
+  return { ...(await decode(await response.blob(), name)), url: String(url) };
+}
+
+/** The picture as a `data:` URL (PNG), for a document that embeds it. */
+export function pictureDataURL(picture: Picture): string {
+  const canvas = document.createElement("canvas");
+  canvas.width = picture.pixels.width;
+  canvas.height = picture.pixels.height;
+  const ctx = canvas.getContext("2d");
+  if (!ctx) throw new Error("could not encode the picture (no 2D canvas)");
+  ctx.putImageData(picture.pixels, 0, 0);
+  return canvas.toDataURL("image/png");
 }
 
 /** Decodes a picture the user chose or dropped. */

@@ -151,6 +151,9 @@ export interface UpdateBody {
   /** Where the positions go, `2 × vertexCount` long: transferred to the worker and back
    *  in the result, so the two buffers the page alternates between are never copied. */
   readonly out: Float64Array;
+  /** The page's clock when the targets were sent (seconds, `performance.now() / 1000`):
+   *  while recording, the worker records them at this time. */
+  readonly time?: number;
 }
 
 /** What one update reports. */
@@ -212,6 +215,103 @@ export interface ResetResult {
   readonly generation: number;
 }
 
+export interface SavePoseBody {
+  readonly generation: number;
+  /** The pose on screen, one position per vertex (`Blender.addPose`). */
+  readonly positions: Float64Array;
+}
+
+export interface PosesResult {
+  readonly generation: number;
+  readonly poseCount: number;
+}
+
+export interface RemovePoseBody {
+  readonly generation: number;
+  readonly index: number;
+}
+
+export interface BlendBody {
+  readonly generation: number;
+  /** One weight per pose (the rest weighs 1 − Σ). */
+  readonly weights: Float64Array;
+  /** Where the positions go (transferred there and back). */
+  readonly out: Float64Array;
+}
+
+export interface PositionsResult {
+  readonly generation: number;
+  readonly positions: Float64Array;
+  /** The time the call took in the worker (ms). */
+  readonly ms: number;
+}
+
+export interface RecordBody {
+  readonly generation: number;
+  /** Start (a new track, its first sample the pins as they are now) or stop recording. */
+  readonly on: boolean;
+  readonly time: number;
+  readonly targets: Float64Array;
+  readonly rotations: Float64Array;
+}
+
+export interface RecordResult {
+  readonly generation: number;
+  readonly samples: number;
+  /** Seconds. */
+  readonly duration: number;
+}
+
+export interface PlayBody {
+  readonly generation: number;
+}
+
+export interface PlayResult {
+  readonly generation: number;
+  /** Seconds; 0 when there is nothing to play. */
+  readonly duration: number;
+  readonly mode: "track" | "weights" | "still";
+}
+
+export interface PlayFrameBody {
+  readonly generation: number;
+  /** Seconds, from the start of the animation. */
+  readonly time: number;
+  readonly out: Float64Array;
+}
+
+export interface PlayFrameResult extends PositionsResult {
+  /** The pins' targets and rotations at `time` (a pin track whose pins are the ones
+   *  compiled), else null. */
+  readonly targets: Float64Array | null;
+  readonly rotations: Float64Array | null;
+}
+
+/** A puppet document as plain data (docs/puppet-document.md; `PuppetDocument`). */
+export type DocumentData = Record<string, unknown>;
+
+export interface DocumentBody {
+  readonly generation: number;
+  readonly picture: { readonly url: string; readonly width: number; readonly height: number };
+  readonly loop: boolean;
+}
+
+export interface LoadDocumentBody {
+  readonly generation: number;
+  /** The document's JSON text. */
+  readonly text: string;
+  readonly version: number;
+}
+
+export interface LoadDocumentResult {
+  readonly opened: OpenResult;
+  /** The document's poses, each one position per vertex. */
+  readonly poses: Float64Array[];
+  readonly duration: number;
+  readonly loop: boolean;
+  readonly mode: "track" | "weights" | "still";
+}
+
 /** Each request's body and its result. */
 export interface Calls {
   /** Meshes a picture, registers it and compiles its first pins (one generation). */
@@ -234,6 +334,22 @@ export interface Calls {
   /** Test builds only: throws what a wasm trap throws, so that the page's recovery can be
    *  tested; production workers drop it. */
   crash: { body: null; result: null };
+  /** Adds a pose to the generation's blender. */
+  savePose: { body: SavePoseBody; result: PosesResult };
+  removePose: { body: RemovePoseBody; result: PosesResult };
+  /** The poses blended (`Blender.blendInto`). */
+  blend: { body: BlendBody; result: PositionsResult };
+  /** Starts or stops recording the pins' targets (a `Track`; updates sent meanwhile are
+   *  recorded at their `time`). */
+  record: { body: RecordBody; result: RecordResult };
+  /** Prepares playback (a `Player` of the generation's document). */
+  play: { body: PlayBody; result: PlayResult };
+  /** One frame of playback (`player.positionsInto`). */
+  playFrame: { body: PlayFrameBody; result: PlayFrameResult };
+  /** The generation as a puppet document. */
+  document: { body: DocumentBody; result: { readonly document: DocumentData } };
+  /** Opens a puppet document as a new generation (its mesh, pins, regions, poses, track). */
+  loadDocument: { body: LoadDocumentBody; result: LoadDocumentResult };
 }
 
 export type Kind = keyof Calls;

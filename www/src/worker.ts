@@ -7,15 +7,18 @@
 // TypeError) may have left the wasm instance corrupt, so it is answered as fatal and every
 // later request too: the page then starts a new worker.
 
-import init, { Mesh, Puppet } from "../../pkg/bunraku.js";
+import init, { Blender, Mesh, Player, Puppet, Track, type PuppetDocument } from "../../pkg/bunraku.js";
 import { autoPins } from "./autopins.js";
 import { meshEdges } from "./edges.js";
 import {
   errorInfo,
   type AnyRequest,
   type Calls,
+  type DocumentData,
   type ErrorInfo,
   type Kind,
+  type LoadDocumentBody,
+  type LoadDocumentResult,
   type OpenBody,
   type OpenResult,
   type PinArrays,
@@ -34,7 +37,45 @@ interface Held {
   readonly puppet: Puppet;
   /** The version of the compiled pin set. */
   version: number;
+  /** What a document of this generation holds besides the puppet: the uvs, the
+   *  registration, the compiled pins (rest points and kinds) and the regions. */
+  readonly uvs: Float32Array;
+  readonly register: OpenBody["register"];
+  pins: Pick<PinArrays, "rests" | "kinds">;
+  regions: { starch: Regions["starch"]; overlap: Regions["overlap"] };
+  /** The poses (made on the first saved one) and copies of them for documents. */
+  blender: Blender | null;
+  readonly poses: Float64Array[];
+  /** The recorded track, and whether updates are recorded into it now. */
+  track: Track | null;
+  recording: boolean;
+  /** The last targets and rotations recorded, and the time of a later update that sent
+   *  the same ones (recorded only when they change, or when recording stops: repeats
+   *  while the injective method converges would each cost the player a visit). */
+  last: { targets: Float64Array; rotations: Float64Array; held: number | null } | null;
+  /** With the injective method, the poses the puppet took while recording, at most
+   *  KEYFRAME_INTERVAL apart, as a weight track that walks from one to the next: the player
+   *  then blends two poses per frame (cheap, and what the user saw) instead of walking the
+   *  pin track to convergence (docs/puppet-document.md, "Playback"). `rows` holds one
+   *  weight per keyframe pose per sample. Also what an opened document animates with
+   *  (its poses with weights; the others are the user's poses). */
+  keys: { start: number; times: number[]; poses: Float64Array[]; rows: number[][] } | null;
+  /** What plays (made by `play`, or by opening a document); null once it is stale. */
+  player: Player | null;
+  /** The opened document, played as it is until something is recorded. */
+  document: PuppetDocument | null;
 }
+
+function freeHeld(rig: Held | undefined): void {
+  if (!rig) return;
+  rig.puppet.free();
+  rig.blender?.free();
+  rig.track?.free();
+  rig.player?.free();
+}
+
+/** Seconds between the poses kept while recording with the injective method. */
+const KEYFRAME_INTERVAL = 0.1;
 
 /** One puppet per generation the page has not released. */
 const held = new Map<number, Held>();
@@ -164,21 +205,24 @@ function copyRegion<R extends { readonly at: readonly [number, number] }>(region
 
 function open(body: OpenBody): Outcome<OpenResult> {
   const { width, height, data } = body.picture;
-  let t0 = performance.now();
+  const t0 = performance.now();
   // A spacing of 2 px is only a floor: the vertex budget sets the spacing (a picture too
   // small for the budget gets fewer vertices).
   const mesh = Mesh.fromImage(data, width, height, { spacing: 2, maxVertices: body.maxVertices });
   const meshMs = performance.now() - t0;
-  let puppet: Puppet;
-  let uvs: Float32Array;
-  t0 = performance.now();
   try {
-    uvs = own(mesh.uvs);
-    // Cotangent weights suit meshes refined near sharp corners (the picture's outline).
-    puppet = Puppet.register(mesh.vertices, mesh.triangles, body.register);
+    return build(body, mesh.vertices, mesh.triangles, own(mesh.uvs), meshMs);
   } finally {
     mesh.free(); // the puppet has its own copy of the mesh
   }
+}
+
+/** Registers a rest mesh as generation `body.generation` with its first pins and regions. */
+function build(body: Omit<OpenBody, "picture" | "maxVertices">, vertices: Float64Array, triangles: Uint32Array, uvsIn: Float32Array, meshMs: number): Outcome<OpenResult> {
+  let t0 = performance.now();
+  const uvs = uvsIn.slice();
+  // Cotangent weights suit meshes refined near sharp corners (the picture's outline).
+  const puppet = Puppet.register(vertices, triangles, body.register);
   const registerMs = performance.now() - t0;
   try {
     const rest = own(puppet.vertices);
@@ -214,8 +258,23 @@ function open(body: OpenBody): Outcome<OpenResult> {
     puppet.updateInto(pins.targets, positions, pins.rotations);
     const solveMs = performance.now() - t0;
     const edges = meshEdges(triangles);
-    held.get(body.generation)?.puppet.free();
-    held.set(body.generation, { puppet, version: body.version });
+    freeHeld(held.get(body.generation));
+    held.set(body.generation, {
+      puppet,
+      version: body.version,
+      uvs: uvs.slice(),
+      register: body.register,
+      pins: { rests: pins.rests.slice(), kinds: [...pins.kinds] },
+      regions: { starch: regions.starch, overlap: regions.overlap },
+      blender: null,
+      poses: [],
+      track: null,
+      recording: false,
+      last: null,
+      keys: null,
+      player: null,
+      document: null,
+    });
     const result: OpenResult = {
       generation: body.generation,
       version: body.version,
@@ -250,16 +309,20 @@ const handlers: Handlers = {
     const t0 = performance.now();
     compilePins(rig.puppet, { rests: handles, kinds }); // on error the previous set stays compiled, and its version
     rig.version = version;
+    rig.pins = { rests: handles.slice(), kinds: [...kinds] };
+    if (rig.recording && rig.track?.pinCount !== kinds.length) rig.recording = false; // another pin set: the track ends
     return { result: { generation, version, compileMs: performance.now() - t0 }, transfer: [] };
   },
 
-  update({ generation, version, targets, rotations, out }) {
+  update({ generation, version, targets, rotations, out, time }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     if (rig.version !== version) return { dropped: `pin set ${version} is not compiled (${rig.version} is)` };
+    if (rig.recording && time !== undefined) recordSample(rig, time, targets, rotations);
     const t0 = performance.now();
     rig.puppet.updateInto(targets, out, rotations);
     const solveMs = performance.now() - t0;
+    if (rig.recording && time !== undefined) keyframe(rig, time, out);
     const pinPositions = own(rig.puppet.pinPositions);
     return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs) }, transfer: [out.buffer, pinPositions.buffer] };
   },
@@ -275,6 +338,7 @@ const handlers: Handlers = {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     rig.puppet.setStarch(regions.map(copyRegion)); // on error the starch stays as it was
+    rig.regions.starch = regions;
     return { result: { generation }, transfer: [] };
   },
 
@@ -282,6 +346,7 @@ const handlers: Handlers = {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     rig.puppet.setOverlap(regions.map(copyRegion));
+    rig.regions.overlap = regions;
     const depth = own(rig.puppet.triangleDepth);
     return { result: { generation, depth }, transfer: [depth.buffer] };
   },
@@ -294,7 +359,7 @@ const handlers: Handlers = {
   },
 
   release({ generation }) {
-    held.get(generation)?.puppet.free();
+    freeHeld(held.get(generation));
     held.delete(generation);
     return { result: null, transfer: [] };
   },
@@ -303,4 +368,260 @@ const handlers: Handlers = {
     if (!__TEST__) return { dropped: "crash is for test builds" };
     throw new WebAssembly.RuntimeError("unreachable (a simulated panic)");
   },
+
+  savePose({ generation, positions }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    rig.blender ??= Blender.register(rig.puppet.vertices, rig.puppet.triangles);
+    rig.blender.addPose(positions); // throws flipped-triangles for a folded pose: not added
+    rig.poses.push(positions.slice());
+    rig.player = stale(rig.player);
+    rig.document = null;
+    return { result: { generation, poseCount: rig.blender.poseCount }, transfer: [] };
+  },
+
+  removePose({ generation, index }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    rig.blender?.removePose(index);
+    rig.poses.splice(index, 1);
+    rig.player = stale(rig.player);
+    rig.document = null;
+    return { result: { generation, poseCount: rig.poses.length }, transfer: [] };
+  },
+
+  blend({ generation, weights, out }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (!rig.blender) return { dropped: "no poses saved" };
+    const t0 = performance.now();
+    rig.blender.blendInto(weights, out);
+    return { result: { generation, positions: out, ms: performance.now() - t0 }, transfer: [out.buffer] };
+  },
+
+  record({ generation, on, time, targets, rotations }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (on) {
+      const track = new Track(rig.pins.kinds.length, { kinds: [...rig.pins.kinds] });
+      try {
+        track.record(time, targets, rotations);
+      } catch (e) {
+        track.free();
+        throw e;
+      }
+      rig.track?.free();
+      rig.track = track;
+      rig.keys = rig.puppet.method === "injective" ? { start: time, times: [], poses: [], rows: [] } : null;
+      keyframe(rig, time, rig.puppet.positions);
+      rig.player = stale(rig.player);
+      rig.document = null; // what plays now is the recording
+    }
+    else if (rig.recording) {
+      // The pins held still until now: their last targets at the stop.
+      recordSample(rig, time, targets, rotations);
+      if (rig.last?.held != null) {
+        const { targets: t, rotations: r, held } = rig.last;
+        attempt(() => rig.track?.record(held, t, r));
+      }
+      keyframe(rig, time, rig.puppet.positions, true);
+      if (rig.keys && rig.keys.poses.length < 2) rig.keys = null;
+    }
+    rig.last = on ? { targets: targets.slice(), rotations: rotations.slice(), held: null } : null;
+    rig.recording = on;
+    return { result: { generation, samples: rig.track?.sampleCount ?? 0, duration: rig.track?.duration ?? 0 }, transfer: [] };
+  },
+
+  play({ generation }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    rig.recording = false;
+    // The page loops (it asks for times modulo the duration, and for the last frame once
+    // the loop is switched off): the player itself never wraps.
+    rig.player ??= Player.load(rig.document ? { ...rig.document, loop: false } : documentOf(rig, null, false));
+    // The first frame (from the rest shape to the first sample, the costliest for the
+    // injective method) now, before the page's clock starts.
+    rig.player.positionsInto(0, new Float64Array(2 * rig.player.vertexCount));
+    return { result: { generation, duration: rig.player.duration, mode: rig.player.mode }, transfer: [] };
+  },
+
+  playFrame({ generation, time, out }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (!rig.player) return { dropped: "nothing to play" };
+    const t0 = performance.now();
+    rig.player.positionsInto(time, out);
+    const ms = performance.now() - t0;
+    let targets: Float64Array | null = null;
+    let rotations: Float64Array | null = null;
+    const track = rig.track;
+    if (track && track.sampleCount > 0 && track.pinCount === rig.pins.kinds.length && rig.player.mode !== "still") {
+      targets = new Float64Array(2 * track.pinCount);
+      rotations = new Float64Array(2 * track.pinCount);
+      track.sampleInto(track.start + time, targets, rotations);
+    }
+    const transfer: Transferable[] = [out.buffer];
+    if (targets && rotations) transfer.push(targets.buffer, rotations.buffer);
+    return { result: { generation, positions: out, ms, targets, rotations }, transfer };
+  },
+
+  document({ generation, picture, loop }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    const base = rig.document ? { ...rig.document, picture: rig.document.picture ?? picture, loop } : documentOf(rig, picture, loop);
+    // Through JSON: plain arrays and objects only, as a file holds them.
+    return { result: { document: JSON.parse(JSON.stringify(base)) as DocumentData }, transfer: [] };
+  },
+
+  loadDocument,
 };
+
+/** Records the pins at `time` while recording, skipping repeats (see `Held.last`). A
+ *  refused sample (a time before the last one) ends nothing: it is skipped. */
+function recordSample(rig: Held, time: number, targets: Float64Array, rotations: Float64Array): void {
+  const track = rig.track;
+  if (!track || track.pinCount !== targets.length / 2) return;
+  const last = rig.last;
+  if (last && same(last.targets, targets) && same(last.rotations, rotations)) {
+    last.held = time;
+    return;
+  }
+  if (last?.held != null) {
+    const { held } = last;
+    attempt(() => track.record(held, last.targets, last.rotations));
+  }
+  attempt(() => track.record(time, targets, rotations));
+  rig.last = { targets: targets.slice(), rotations: rotations.slice(), held: null };
+}
+
+/** Keeps `positions` as a keyframe at `time` (page clock, s) when the last one is at least
+ *  KEYFRAME_INTERVAL older, or `last` (the end of the recording: it replaces a keyframe
+ *  less than that older). */
+function keyframe(rig: Held, time: number, positions: Float64Array, last = false): void {
+  const keys = rig.keys;
+  if (!keys) return;
+  const t = time - keys.start;
+  const previous = keys.times[keys.times.length - 1];
+  if (previous !== undefined && t - previous < KEYFRAME_INTERVAL && !(last && t > previous)) return;
+  if (previous !== undefined && last && t - previous < KEYFRAME_INTERVAL && keys.times.length > 1) {
+    keys.times.pop();
+    keys.poses.pop();
+    keys.rows.pop();
+    for (const row of keys.rows) row.pop();
+  }
+  keys.times.push(t);
+  keys.poses.push(positions.slice());
+  // One-hot walk: sample k weighs keyframe k alone.
+  for (const row of keys.rows) row.push(0);
+  keys.rows.push([...Array.from({ length: keys.poses.length - 1 }, () => 0), 1]);
+}
+
+function same(a: Float64Array, b: Float64Array): boolean {
+  return a.length === b.length && a.every((v, k) => v === b[k]);
+}
+
+/** `player` freed: what plays has changed. */
+function stale(player: Player | null): null {
+  player?.free();
+  return null;
+}
+
+/** The generation as a puppet document (docs/puppet-document.md). */
+function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): PuppetDocument {
+  const puppet = rig.puppet;
+  const document: PuppetDocument = {
+    format: "bunraku-puppet",
+    version: 1,
+    ...(picture ? { picture: { url: picture.url, width: picture.width, height: picture.height } } : {}),
+    mesh: { vertices: Array.from(puppet.vertices), triangles: Array.from(puppet.triangles), uvs: Array.from(rig.uvs) },
+    puppet: { method: puppet.method, weights: rig.register.weights },
+    ...(rig.pins.kinds.length > 0 ? { pins: { points: Array.from(rig.pins.rests), kinds: [...rig.pins.kinds] } } : {}),
+    ...(rig.regions.starch.length > 0 ? { starch: rig.regions.starch.map((r) => ({ at: [r.at[0], r.at[1]] as [number, number], amount: r.amount, extent: r.extent })) } : {}),
+    ...(rig.regions.overlap.length > 0 ? { overlap: rig.regions.overlap.map((r) => ({ at: [r.at[0], r.at[1]] as [number, number], depth: r.depth, extent: r.extent })) } : {}),
+    loop,
+  };
+  const keys = rig.keys;
+  const poses = [...rig.poses, ...(keys?.poses ?? [])];
+  if (poses.length > 0) document.poses = poses.map((p) => ({ positions: Array.from(p) }));
+  if (keys && keys.times.length > 0) {
+    const users = rig.poses.map(() => 0);
+    document.weights = { times: [...keys.times], values: keys.rows.flatMap((row) => [...users, ...row]) };
+    document.play = "weights";
+  }
+  const track = rig.track;
+  if (track && track.sampleCount > 0 && track.pinCount === rig.pins.kinds.length) {
+    const json = track.toJSON();
+    // Playback time starts at 0.
+    const start = json.times[0] ?? 0;
+    document.track = { ...json, times: json.times.map((t) => t - start) };
+  }
+  return document;
+}
+
+function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult> {
+  const t0 = performance.now();
+  let player = Player.load(body.text); // validates the whole document
+  try {
+    const doc = player.toJSON();
+    if (doc.loop) {
+      // The page loops; the player never wraps (see `play`).
+      player.free();
+      player = Player.load({ ...doc, loop: false });
+    }
+    const p = doc.puppet ?? {};
+    const register = { weights: p.weights ?? "uniform", method: p.method ?? "injective" } as const;
+    const rests = Float64Array.from(doc.pins?.points ?? []);
+    const kinds = [...(doc.pins?.kinds ?? doc.track?.kinds ?? Array.from({ length: rests.length / 2 }, () => "position" as const))];
+    // The pins start where the track starts (at rest without one).
+    const targets = doc.track ? Float64Array.from(doc.track.targets.slice(0, rests.length)) : rests.slice();
+    const rotations = doc.track?.rotations ? Float64Array.from(doc.track.rotations.slice(0, rests.length)) : Float64Array.from(kinds.flatMap(() => [0, 1]));
+    const regions: Regions = {
+      starch: (doc.starch ?? []).map((r) => ({ at: [r.at[0], r.at[1]], amount: r.amount, extent: r.extent })),
+      overlap: (doc.overlap ?? []).map((r) => ({ at: [r.at[0], r.at[1]], depth: r.depth, extent: r.extent })),
+    };
+    const built = build(
+      { generation: body.generation, version: body.version, register, pins: rests.length > 0 ? { kind: "at", rests, kinds, targets, rotations } : { kind: "auto" }, regions },
+      player.vertices,
+      player.triangles,
+      player.uvs,
+      performance.now() - t0,
+    );
+    if ("dropped" in built) {
+      player.free();
+      return built;
+    }
+    const rig = held.get(body.generation);
+    if (!rig) throw new Error("the document's puppet was not kept");
+    const all = (doc.poses ?? []).map((pose) => Float64Array.from(pose.positions));
+    // The poses the weight track uses animate; the others are the user's poses to blend.
+    const weights = doc.weights;
+    const animated = all.map((_, k) => weights !== undefined && weights.times.some((_, s) => weights.values[s * all.length + k] !== 0));
+    const poses = all.filter((_, k) => !animated[k]);
+    if (poses.length > 0) {
+      rig.blender = Blender.register(player.vertices, player.triangles, doc.blend);
+      for (const [k, pose] of all.entries()) {
+        if (animated[k]) continue;
+        const { positions: _, ...options } = doc.poses?.[k] ?? { positions: [] };
+        rig.blender.addPose(pose, options);
+        rig.poses.push(pose.slice());
+      }
+    }
+    if (weights && animated.some(Boolean)) {
+      const used = all.flatMap((_, k) => (animated[k] ? [k] : []));
+      rig.keys = {
+        start: 0,
+        times: [...weights.times],
+        poses: used.map((k) => all[k]),
+        rows: weights.times.map((_, s) => used.map((k) => weights.values[s * all.length + k])),
+      };
+    }
+    if (doc.track) rig.track = Track.fromJSON(doc.track);
+    rig.player = player;
+    rig.document = doc;
+    const result: LoadDocumentResult = { opened: built.result, poses, duration: player.duration, loop: doc.loop ?? false, mode: player.mode };
+    return { result, transfer: [...built.transfer, ...poses.map((q) => q.buffer)] };
+  } catch (e) {
+    player.free();
+    throw e;
+  }
+}
