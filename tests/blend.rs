@@ -359,7 +359,8 @@ fn shape_iterations_lower_the_rotation_invariant_energy() {
     let (et, es) = (blend_with(0), blend_with(10));
     let (before, after) =
         (shape_energy(&mesh, &poses, &weights, &et), shape_energy(&mesh, &poses, &weights, &es));
-    assert!(after < 0.99 * before, "E_S {before} → {after}");
+    // Measured 0.107 → 0.057 (the module docs: "10 iterations halve it").
+    assert!(after < 0.6 * before, "E_S {before} → {after}");
     assert!(max_dist(&et, &es) < 0.05 * diameter(v), "E_S stays near E_T");
     // Rigid blends are exact either way.
     let mut b = Blender::from_mesh(mesh.clone(), BlendOptions { iterations: 5 }).unwrap();
@@ -472,4 +473,40 @@ fn extrapolated_blends_of_smooth_poses_do_not_fold() {
         let out = b.blend(&w).unwrap();
         assert_eq!(flipped(&mesh, &out), 0, "{w:?}");
     }
+}
+
+#[test]
+fn clamped_puppet_poses_with_folds_blend_with_fewer_folds_than_a_linear_blend() {
+    // Two-step drags of a star tip far across the shape fold it (the research notes, §5.3:
+    // such poses are what puppets make); clamped, their flip count is reported, one-hot
+    // weights give them back to within a fraction of a percent, and the halfway blend,
+    // unwrapped along the smallest jumps, folds no more than the linear blend (measured:
+    // 6–12 flipped triangles against 7–65).
+    let mesh = mesh_outline(&star(5, 0.5, 1.0), &[], &OutlineOptions::new().with_spacing(0.04)).unwrap();
+    let v = mesh.vertices();
+    let rest = Rest::register(mesh.clone(), Options::two_step()).unwrap();
+    let handles = [[0.0, 0.9], [0.9 * 0.951, 0.9 * 0.309], [0.0, 0.0], [-0.3, -0.2]];
+    let mut pinned = rest.compile(&handles.map(Handle::Point)).unwrap();
+    let clamp = PoseOptions { flipped: Flipped::Clamp, ..PoseOptions::default() };
+    let (mut blended, mut linear) = (0, 0);
+    for (dx, dy) in [(1.5, -1.2), (0.8, -1.6), (-1.2, -1.5), (2.0, 0.5), (0.5, -2.0)] {
+        let mut targets = handles;
+        targets[0] = [handles[0][0] + dx, handles[0][1] + dy];
+        let pose = pinned.update(&targets).unwrap().to_vec();
+        let folds = flipped(&mesh, &pose);
+        assert!(folds > 0, "the drag ({dx}, {dy}) folds the star");
+        let mut b = blender(&mesh);
+        assert_eq!(b.add_pose(&pose).unwrap_err().code(), "flipped-triangles");
+        b.add_pose_with(&pose, clamp).unwrap();
+        assert_eq!(b.flipped_count(0), Ok(folds));
+        let one = b.blend(&[1.0]).unwrap();
+        assert!(max_dist(&one, &pose) < 0.005 * diameter(v), "one-hot: {}", max_dist(&one, &pose));
+        let half = flipped(&mesh, &b.blend(&[0.5]).unwrap());
+        let chord: Vec<[f64; 2]> =
+            v.iter().zip(&pose).map(|(p, q)| [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]).collect();
+        let chord = flipped(&mesh, &chord);
+        assert!(half <= chord, "drag ({dx}, {dy}): {half} flipped halfway, {chord} in the linear blend");
+        (blended, linear) = (blended + half, linear + chord);
+    }
+    assert!(2 * blended < linear, "{blended} against {linear} in all");
 }
