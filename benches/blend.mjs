@@ -26,7 +26,7 @@ const ms = (f) => {
 const median = (a) => [...a].sort((x, y) => x - y)[Math.floor(a.length / 2)];
 const min = (a) => Math.min(...a);
 
-/** Pose k of 16 of benches/blend.rs: the star turned by up to two turns, twisted and stretched a
+/** Pose k of 16 of benches/blend.rs: the star turned by −1.5 to 1.5 rad, twisted and stretched a
  *  little, moved. */
 function pose(vertices, k) {
   const turn = -6 + 0.8 * k;

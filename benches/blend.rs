@@ -18,7 +18,7 @@ use common::*;
 /// The handles of benches/arap.rs: two star tips, the centre, and a point between.
 const HANDLES: [[f64; 2]; 4] = [[0.0, 0.9], [0.9 * 0.951, 0.9 * 0.309], [0.0, 0.0], [-0.3, -0.2]];
 
-/// Pose `k` of 16: the star turned by up to two turns, twisted and stretched a little,
+/// Pose `k` of 16: the star turned by −1.5 to 1.5 rad, twisted and stretched a little,
 /// moved (flip-free: the twist turns by at most 0.8 rad across the radius).
 fn pose(mesh: &Mesh, k: usize) -> Vec<[f64; 2]> {
     let turn = -6.0 + 0.8 * k as f64;
