@@ -5,6 +5,9 @@
 //! the same time (exactly for the stateless methods and blended poses, to the convergence
 //! tolerance for the injective method); and named errors that leave tracks and players as
 //! they were. Meshes are small: CI runs these in a debug build.
+//! Native only: documents are read and written as JSON text natively (in wasm the
+//! JavaScript engine does it; tests/node/animation.test.mjs covers that side).
+#![cfg(not(target_arch = "wasm32"))]
 
 mod common;
 
