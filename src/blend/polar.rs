@@ -1,8 +1,8 @@
 //! The per-triangle algebra of Kaji's blend in closed form (paper §5): the polar
 //! decomposition `A = R S` of a 2×2 map, the logarithm of the stretch `S`, and the
 //! exponential of a symmetric 2×2 matrix. Scalar and exact to round-off: poses are
-//! decomposed with these once, when they are added; the per-blend pass
-//! ([`super::kernel`]) evaluates the same exponential on two lanes.
+//! decomposed with these once, when they are added; the per-blend pass (the private
+//! `kernel` module) evaluates the same exponential four triangles at a time, on lanes.
 //!
 //! A 2×2 map `A = [[a, b], [c, d]]` (acting on column vectors) is, as a map of complex
 //! numbers, `z ↦ α z + β z̄` with `α = ((a + d) + i(c − b))/2` (its similarity part) and
@@ -28,7 +28,8 @@ pub type Mat2 = [[f64; 2]; 2];
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LogMap {
     /// The rotation angle, radians, counter-clockwise; principal (in `(−π, π]`) as
-    /// [`log_map`] returns it, unwrapped once [`super::unwrap`] has chosen its branch.
+    /// [`log_map`] returns it, unwrapped (the continuous logarithm, [`super::Reference`])
+    /// once the pose is added.
     pub theta: f64,
     /// `L₁₁`.
     pub l11: f64,
