@@ -16,9 +16,14 @@
 // rotation rings (a quarter turn each way, the advanced pin's ring also drawn out to scale
 // 1.3), all in the same animation frames.
 //
+// With --mode playback (issue 12), the measured drag is recorded (#record), saved as a
+// puppet document (#save-doc) and opened again (#open-doc, which plays it): the rows are
+// then the playback's frames, `player.positionsInto` in the worker for each (with the
+// injective method a blend of the two recorded poses around the frame's time).
+//
 //   node benches/browser.mjs [--vertices 5000] [--frames 120] [--renderer 2d]
 //                            [--method two-step|nonlinear|injective] [--kinds all]
-//                            [--per-frame]
+//                            [--mode drag|playback] [--per-frame]
 // (--method: the page's ?method=, the selector's first value; default: injective.)
 
 import os from "node:os";
@@ -32,6 +37,7 @@ const { values: opts } = parseArgs({
     renderer: { type: "string", default: "webgl2" },
     method: { type: "string" },
     kinds: { type: "string", default: "position" },
+    mode: { type: "string", default: "drag" },
     "per-frame": { type: "boolean", default: false },
   },
 });
@@ -118,7 +124,28 @@ try {
       return drag;
     }, [n, all]);
   await run(30);
-  const records = (await run(frames)).filter((r) => !Number.isNaN(r.solveMs));
+  const playback = opts.mode === "playback";
+  let records;
+  let documentInfo = "";
+  if (!playback) records = (await run(frames)).filter((r) => !Number.isNaN(r.solveMs));
+  else {
+    await page.locator("#reset").click();
+    await settled(page);
+    await page.locator("#record").click();
+    await run(frames);
+    await page.locator("#record").click();
+    await settled(page);
+    const [download] = await Promise.all([page.waitForEvent("download"), page.locator("#save-doc").click()]);
+    const { readFileSync } = await import("node:fs");
+    const text = readFileSync(await download.path());
+    const doc = JSON.parse(text);
+    documentInfo = `document: ${(text.length / 1e6).toFixed(1)} MB, ${doc.poses?.length ?? 0} poses, ${doc.track?.times.length ?? 0} track samples, plays ${doc.play ?? "track"}, ${doc.weights ? doc.weights.times[doc.weights.times.length - 1].toFixed(2) : "?"} s`;
+    const ended = await page.evaluate(() => window.bunrakuDemo.playsEnded());
+    await page.evaluate(() => window.bunrakuDemo.clearFrames());
+    await page.setInputFiles("#open-doc", { name: "bench.bunraku.json", mimeType: "application/json", buffer: text });
+    await page.waitForFunction((n) => window.bunrakuDemo.playsEnded() > n, ended, { timeout: 300_000 });
+    records = (await page.evaluate(() => window.bunrakuDemo.frames())).filter((r) => !Number.isNaN(r.solveMs));
+  }
 
   const sorted = (a) => [...a].sort((x, y) => x - y);
   const pct = (a, p) => a[Math.round((a.length - 1) * p)];
@@ -130,11 +157,12 @@ try {
 
   const method = await page.evaluate(() => window.bunrakuDemo.method());
   console.log(`Chromium ${version} (headless, ${renderer}), ${os.cpus()[0].model}, ${os.cpus().length} cores, load average ${os.loadavg()[0].toFixed(1)}; method: ${method}; pins: ${kinds.join(", ")}`);
-  console.log(`mesh: ${mesh.vertices} vertices, ${mesh.triangles} triangles; stage ${stage[0]} × ${stage[1]} device px; ${records.length} new poses drawn during ${frames} frames of pointer moves`);
+  console.log(`mesh: ${mesh.vertices} vertices, ${mesh.triangles} triangles; stage ${stage[0]} × ${stage[1]} device px; ${records.length} new poses drawn ${playback ? "while the document played" : `during ${frames} frames of pointer moves`}`);
+  if (playback) console.log(documentInfo);
   console.log("");
   console.log("| per frame (ms) | frames | median | p95 | max |");
   console.log("|---|---:|---:|---:|---:|");
-  console.log(row("solve (Puppet.updateInto, in the worker)", records.map((r) => r.solveMs)));
+  console.log(row(playback ? "player.positionsInto (in the worker)" : "solve (Puppet.updateInto, in the worker)", records.map((r) => r.solveMs)));
   console.log(row("round trip to the worker (post → positions back)", records.map((r) => r.roundTripMs)));
   console.log(row("frame callback (upload + draw + overlay)", records.map((r) => r.workMs)));
   console.log(row("frame interval (rAF timestamps of new poses)", intervals));

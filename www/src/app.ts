@@ -50,6 +50,8 @@ export const FIRST_PICTURE_MARK = "bunraku:first-picture";
 const FLIPS_EVERY_MS = 250;
 /** A pin further than this (CSS pixels) from its target lags: it gets a line to it. */
 const LAG_SHOWN = 1;
+/** How often playback asks the worker for a pose (ms): a 60 Hz frame. */
+const PLAY_FRAME_MS = 1000 / 60;
 /** A region placed with a click reaches this fraction of the rest shape's diagonal. */
 const DEFAULT_EXTENT = 0.08;
 
@@ -635,6 +637,9 @@ export class App implements PinBoard {
         }
         this.showPose(rig, positions, ms, sent);
         if (last) this.endPlayback();
+        // The next pose is asked for a frame after this one was (at most one in flight),
+        // not only at the next animation frame, so that it is back in time for it.
+        else setTimeout(() => this.playback === p && this.playFrame(rig), Math.max(0, PLAY_FRAME_MS - (performance.now() - sent)));
       } else {
         if (answer.status === "error") this.status.error(answer.error, "playback stopped");
         this.endPlayback();

@@ -76,6 +76,8 @@ function freeHeld(rig: Held | undefined): void {
 
 /** Seconds between the poses kept while recording with the injective method. */
 const KEYFRAME_INTERVAL = 0.1;
+/** The same while the targets stay the same. */
+const HELD_KEYFRAME_INTERVAL = 1;
 
 /** One puppet per generation the page has not released. */
 const held = new Map<number, Held>();
@@ -502,7 +504,10 @@ function keyframe(rig: Held, time: number, positions: Float64Array, last = false
   if (!keys) return;
   const t = time - keys.start;
   const previous = keys.times[keys.times.length - 1];
-  if (previous !== undefined && t - previous < KEYFRAME_INTERVAL && !(last && t > previous)) return;
+  // While the pins are still (the injective method refining), one a second is enough.
+  const still = rig.last?.held != null;
+  const interval = still ? HELD_KEYFRAME_INTERVAL : KEYFRAME_INTERVAL;
+  if (previous !== undefined && t - previous < interval && !(last && t > previous)) return;
   if (previous !== undefined && last && t - previous < KEYFRAME_INTERVAL && keys.times.length > 1) {
     keys.times.pop();
     keys.poses.pop();
