@@ -145,7 +145,9 @@ test("examples/vite type-checks, builds and runs in Chromium", { timeout: 10 * M
       await page.waitForTimeout(20);
     }
     await page.mouse.up();
-    await status.filter({ hasNotText: /frame 1$/ }).waitFor({ timeout: 5_000 });
+    // Until the drag has been drawn and the puppet has caught up with it (the injective
+    // method refines on the frames after a fast drag).
+    await status.filter({ hasText: /frame \d+$/, hasNotText: /frame 1$/ }).waitFor({ timeout: 30_000 });
     // The dragged tip's colour now lies 60 px right of where it was.
     const shot = PNG.sync.read(await page.locator("#stage").screenshot());
     const yellow = (px, py) => {

@@ -52,12 +52,26 @@ function draw(): void {
     ctx.arc(targets[k], targets[k + 1], 7, 0, 2 * Math.PI);
     ctx.fill();
   }
-  status.textContent = `ok: ${mesh.vertexCount} vertices, ${puppet.handleCount} pins, frame ${frames}`;
+  const state = puppet.converged ? "" : " (refining)";
+  status.textContent = `ok: ${mesh.vertexCount} vertices, ${puppet.handleCount} pins, frame ${frames}${state}`;
 }
 
-// Drag a pin: pointer events cover mouse, touch and pen; one update per animation frame.
-let dragged = -1;
+// One update per animation frame. The default method ("injective") never folds the shape:
+// a pin dragged faster than it can follow lags behind, so keep updating on the next frames
+// until the puppet has converged.
 let pending = false;
+function schedule(): void {
+  if (pending) return;
+  pending = true;
+  requestAnimationFrame(() => {
+    pending = false;
+    draw();
+    if (!puppet.converged) schedule();
+  });
+}
+
+// Drag a pin: pointer events cover mouse, touch and pen.
+let dragged = -1;
 const at = (e: PointerEvent): [number, number] => {
   const r = canvas.getBoundingClientRect();
   return [((e.clientX - r.left) * canvas.width) / r.width, ((e.clientY - r.top) * canvas.height) / r.height];
@@ -74,13 +88,7 @@ canvas.addEventListener("pointerdown", (e) => {
 canvas.addEventListener("pointermove", (e) => {
   if (dragged < 0) return;
   [targets[2 * dragged], targets[2 * dragged + 1]] = at(e);
-  if (!pending) {
-    pending = true;
-    requestAnimationFrame(() => {
-      pending = false;
-      draw();
-    });
-  }
+  schedule();
 });
 canvas.addEventListener("pointerup", () => (dragged = -1));
 draw();
