@@ -91,4 +91,4 @@ canvas.addEventListener("pointermove", (e) => {
   schedule();
 });
 canvas.addEventListener("pointerup", () => (dragged = -1));
-draw();
+schedule();
