@@ -74,6 +74,9 @@ export async function openDemo(demo, { initScript, query = "", contextOptions = 
  *  solve back from the worker, and drawn. */
 export const settled = (page) => page.evaluate(() => window.bunrakuDemo.settled());
 
+/** Calls the test build's hook `window.bunrakuDemo[name](...args)` in the page. */
+export const hook = (page, name, ...args) => page.evaluate(([name, args]) => window.bunrakuDemo[name](...args), [name, args]);
+
 /** The page's viewport as pixels: `at(x, y)` → [r, g, b, a] at viewport CSS pixel (x, y). */
 export async function capture(page) {
   await settled(page);

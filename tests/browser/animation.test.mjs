@@ -8,7 +8,7 @@ import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { Blender, initSync } from "../../pkg/bunraku.js";
-import { drag, openDemo, settled, startDemo } from "./_harness.mjs";
+import { drag, hook, openDemo, settled, startDemo } from "./_harness.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
@@ -23,7 +23,6 @@ after(async () => {
   await demo?.close();
 });
 
-const hook = (page, name, ...args) => page.evaluate(([name, args]) => window.bunrakuDemo[name](...args), [name, args]);
 
 /** The largest distance between corresponding vertices of two poses `[x0, y0, …]`. */
 function maxDistance(a, b) {

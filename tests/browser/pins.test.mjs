@@ -11,7 +11,7 @@ import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { PNG } from "pngjs";
-import { capture, makePNG, openDemo, settled, startDemo, withoutWebGL2 } from "./_harness.mjs";
+import { capture, hook, makePNG, openDemo, settled, startDemo, withoutWebGL2 } from "./_harness.mjs";
 
 const TIMEOUT = 120_000;
 let demo;
@@ -24,7 +24,6 @@ after(async () => {
   await demo?.close();
 });
 
-const hook = (page, name, ...args) => page.evaluate(([name, args]) => window.bunrakuDemo[name](...args), [name, args]);
 const pins = (page) => hook(page, "pins");
 const pinCount = async (page) => Number(await page.locator("#pin-count").textContent());
 const flips = async (page) => Number(await page.locator("#flip-count").getAttribute("data-flipped"));
