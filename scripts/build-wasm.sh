@@ -71,8 +71,13 @@ before=$(stat -c %s "$WASM")
 # left out of line (a cold path, a big function called once) merged into its caller makes
 # huge functions with hundreds of locals that compress worse: 4.2 KB gzipped. (The hot
 # loops are the same code either way; only calls made once per call of their caller stay.)
+# --reorder-functions-by-name (after -Oz, before the names are stripped): the functions in
+# the order of their names, so that the instances of one generic function and the
+# functions of one module lie side by side, within reach of gzip's 32 KB window: 5.4 KB
+# gzipped. (The order of functions in the module changes nothing else.)
 "$WASM_OPT" -Oz "${WASM_FEATURES[@]}" --zero-filled-memory --low-memory-unused \
-  --one-caller-inline-max-function-size=20 --strip-debug --strip-producers --strip-target-features \
+  --one-caller-inline-max-function-size=20 --reorder-functions-by-name \
+  --strip-debug --strip-producers --strip-target-features \
   "$WASM" -o "$WASM.opt"
 mv "$WASM.opt" "$WASM"
 log "wasm-opt -Oz ($("$WASM_OPT" --version | awk '{print $3}')): $before -> $(stat -c %s "$WASM") bytes in $(( $(now) - t0 )) s"
