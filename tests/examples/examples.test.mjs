@@ -1,5 +1,5 @@
-// The npm package as a user meets it: `npm pack` of the repository (pkg/ already built),
-// installed from the tarball into fresh copies of examples/vite and examples/node. The Vite
+// The npm package as a user meets it: `npm pack` of the repository (pkg/ already built;
+// dist/, the WebGL2 helper `bunraku/gl`, built here when it is out of date), installed from the tarball into fresh copies of examples/vite and examples/node. The Vite
 // app is type-checked, built and opened in headless Chromium; the Node examples run.
 // Needs the npm registry (vite, typescript, pngjs) and /usr/bin/chromium.
 import { test, before, after } from "node:test";
@@ -13,6 +13,7 @@ import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 import { CHROMIUM, CHROMIUM_ARGS } from "../browser/_harness.mjs";
 import { PNG } from "pngjs";
+import { buildGL } from "../../scripts/build-gl.mjs";
 
 const root = fileURLToPath(new URL("../../", import.meta.url));
 let work;
@@ -51,6 +52,7 @@ const freePort = () =>
   });
 
 before(() => {
+  buildGL({ log: (line) => console.log(`# ${line}`) });
   work = mkdtempSync(join(tmpdir(), "bunraku-examples-"));
   const [packed] = JSON.parse(run("npm", ["pack", "--ignore-scripts", "--json", "--pack-destination", work], root));
   tarball = join(work, packed.filename);
@@ -58,6 +60,8 @@ before(() => {
   assert.deepEqual(files, [
     "LICENSE",
     "README.md",
+    "dist/gl.d.ts",
+    "dist/gl.js",
     "package.json",
     "pkg/bunraku.d.ts",
     "pkg/bunraku.js",
