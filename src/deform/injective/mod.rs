@@ -260,11 +260,28 @@ impl Injective {
         self.x.iter().map(|p| p.0)
     }
 
-    /// Back to `rest`, which is injective.
+    /// Back to `rest`, which is injective, with the forcing term's floor as compiled: the
+    /// next updates do what they did after compilation.
     pub(crate) fn reset(&mut self, rest: &[[f64; 2]]) {
-        for (x, r) in self.x.iter_mut().zip(rest) {
+        self.restore(rest, FLOOR_RANGE.0);
+    }
+
+    /// The forcing term's floor: with the positions, all the state that carries from one
+    /// update to the next (see [`Injective::restore`]).
+    pub(crate) fn floor(&self) -> f64 {
+        self.floor
+    }
+
+    /// Continues from `positions` (injective, as [`Injective::positions`] gave them) and
+    /// `floor` (as [`Injective::floor`] gave it): the next update computes exactly what it
+    /// would have computed after the update that left that state, whatever came between.
+    /// (The energy, its gradient and the targets are recomputed by the next update; the
+    /// conjugate gradients start from zero every time.)
+    pub(crate) fn restore(&mut self, positions: &[[f64; 2]], floor: f64) {
+        for (x, r) in self.x.iter_mut().zip(positions) {
             x.0 = *r;
         }
+        self.floor = floor.clamp(FLOOR_RANGE.0, FLOOR_RANGE.1);
         self.fresh = false;
         self.converged = false;
     }
