@@ -2,7 +2,7 @@
 //! "compilation" and "interactive update").
 
 use super::components::{place_unsolved, Motion};
-use super::injective::{Injective, Report};
+use super::injective::{add_held_terms, Injective, Report};
 use super::nonlinear::Nonlinear;
 use super::pin_set::PinSet;
 use super::pins::{Pin, Rotation};
@@ -362,8 +362,11 @@ impl Solver {
                 Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
             }
             Method::Injective => {
-                // Only step 2's factor: it preconditions the Newton systems.
-                let step2 = Step2::new(system, Factor::new(&system.step2, &values.step2)?);
+                // Only step 2's factor, with the held triangles' terms: it preconditions the
+                // Newton systems.
+                let mut step2_values = values.step2;
+                add_held_terms(system, &data.mesh, pins, w, &mut step2_values);
+                let step2 = Step2::new(system, Factor::new(&system.step2, &step2_values)?);
                 Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
             }
         })
