@@ -179,11 +179,11 @@ pub(crate) fn add_held_terms(system: &System, mesh: &Mesh, pins: &PinSet, w: f64
             let [a, b, c] = tri.map(|v| rest[v as usize]);
             let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
             let det = e1[0] * e2[1] - e1[1] * e2[0];
-            // The rows of [e1 e2]⁻¹; column j of G is d F_j / d (x_a, x_b, x_c).
-            let inv = [[e2[1] / det, -e2[0] / det], [-e1[1] / det, e1[0] / det]];
+            // The columns `j` of [e1 e2]⁻¹: d F_j / d (x_b, x_c); d F_j / d x_a is minus their sum.
+            let columns = [[e2[1] / det, -e1[1] / det], [-e2[0] / det, e1[0] / det]];
             let weight = w * w * 0.5 * det;
-            for j in 0..2 {
-                let g = [-(inv[0][j] + inv[1][j]), inv[0][j], inv[1][j]];
+            for [db, dc] in columns {
+                let g = [-(db + dc), db, dc];
                 for p in 0..3 {
                     for q in 0..3 {
                         let (row, col) = (tri[p] as usize, tri[q] as usize);
