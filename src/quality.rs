@@ -21,6 +21,7 @@
 use crate::error::{Error, Result};
 use crate::geometry::space::{norm, sub};
 use crate::mesh::{Edge, Mesh};
+use crate::sort::{from_total_order_key, sort_u64, total_order_key};
 use crate::surface::Surface;
 
 /// The distortion of one triangle (see the module docs).
@@ -61,8 +62,11 @@ impl Summary {
         if values.is_empty() {
             return Summary::default();
         }
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f64::total_cmp);
+        // Sorted by `total_cmp` through its integer keys (src/sort.rs): equal keys are equal
+        // bits, so this is what a stable sort by `total_cmp` gives.
+        let mut keys: Vec<u64> = values.iter().map(|&x| total_order_key(x)).collect();
+        sort_u64(&mut keys);
+        let sorted: Vec<f64> = keys.into_iter().map(from_total_order_key).collect();
         let at = |p: f64| sorted[((sorted.len() - 1) as f64 * p).round() as usize];
         Summary {
             min: sorted[0],

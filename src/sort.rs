@@ -30,6 +30,12 @@ pub(crate) fn total_order_key(x: f64) -> u64 {
     ((bits ^ (((bits >> 63) as u64) >> 1) as i64) as u64) ^ (1 << 63)
 }
 
+/// The `f64` whose [`total_order_key`] is `key`.
+pub(crate) fn from_total_order_key(key: u64) -> f64 {
+    let t = (key ^ (1 << 63)) as i64;
+    f64::from_bits((t ^ (((t >> 63) as u64) >> 1) as i64) as u64)
+}
+
 /// Sorts `values` ascending (a copy through `u64` keys).
 pub(crate) fn sort_u32(values: &mut [u32]) {
     let mut keys: Vec<u64> = values.iter().map(|&v| v as u64).collect();
@@ -78,6 +84,7 @@ mod tests {
             -f64::NAN,
         ];
         for &a in &xs {
+            assert_eq!(from_total_order_key(total_order_key(a)).to_bits(), a.to_bits());
             for &b in &xs {
                 assert_eq!(total_order_key(a).cmp(&total_order_key(b)), a.total_cmp(&b), "{a} {b}");
             }

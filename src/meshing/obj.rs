@@ -184,6 +184,66 @@ impl Parsed {
     }
 }
 
+/// `t` as `f64::from_str` reads it (`None` where it fails).
+///
+/// In wasm, decimal forms are validated here and converted by the JavaScript engine's
+/// `parseFloat`, which is correctly rounded as `from_str` is (so the bits are the same):
+/// `from_str` would link the standard library's decimal-to-float tables, 10 KB of the .wasm
+/// that gzip cannot shrink (a 128-bit power of five per decimal exponent), for OBJ reading
+/// alone. The infinity and NaN words `from_str` accepts are read here.
+fn parse_number(t: &str) -> Option<f64> {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let unsigned = t.strip_prefix(['+', '-']).unwrap_or(t);
+        let negative = t.starts_with('-');
+        if ["inf", "infinity"].iter().any(|w| unsigned.eq_ignore_ascii_case(w)) {
+            return Some(if negative { f64::NEG_INFINITY } else { f64::INFINITY });
+        }
+        if unsigned.eq_ignore_ascii_case("nan") {
+            return Some(if negative { -f64::NAN } else { f64::NAN });
+        }
+        is_decimal(unsigned).then(|| js_sys::parse_float(t))
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        t.parse().ok()
+    }
+}
+
+/// Whether `t` (without its sign) is a decimal number in `f64::from_str`'s grammar: digits
+/// with at most one point and at least one digit, then optionally `e` or `E`, a sign and
+/// digits.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+fn is_decimal(t: &str) -> bool {
+    let b = t.as_bytes();
+    let mut i = 0;
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut mantissa = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        mantissa += digits(&mut i);
+    }
+    if mantissa == 0 {
+        return false;
+    }
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if digits(&mut i) == 0 {
+            return false;
+        }
+    }
+    i == b.len()
+}
+
 /// Reads the statements `read_obj` documents, checking numbers and indices.
 fn parse(text: &str) -> Result<Parsed> {
     let mut positions: Vec<[f64; 3]> = Vec::new();
@@ -199,7 +259,7 @@ fn parse(text: &str) -> Result<Parsed> {
         let mut tokens = content.split_whitespace();
         let Some(keyword) = tokens.next() else { continue };
         let number = |t: &str, what: &str| -> Result<f64> {
-            let v: f64 = t.parse().map_err(|_| bad(format!("{what}: {t:?} is not a number")))?;
+            let v = parse_number(t).ok_or_else(|| bad(format!("{what}: {t:?} is not a number")))?;
             if !v.is_finite() {
                 return Err(bad(format!("{what}: {t} is not finite")));
             }
@@ -278,4 +338,83 @@ fn parse(text: &str) -> Result<Parsed> {
         return Err(Error::BadObj { line: 0, reason: "the file has no face".into() });
     }
     Ok(Parsed { positions, position_line, texcoords, triangles, corner_vt, tri_line })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Decimal forms at the edges of `f64::from_str`'s grammar and of rounding: halfway
+    /// cases, subnormals, overflow, long digit strings.
+    const NUMBERS: [&str; 40] = [
+        "0",
+        "-0",
+        "+0",
+        "1",
+        "-1",
+        "1.",
+        ".5",
+        "-.5",
+        "+.5e-3",
+        "1e5",
+        "1E5",
+        "1e+5",
+        "1e-5",
+        "007",
+        "0.1",
+        "0.30000000000000004",
+        "9007199254740993",
+        "9007199254740992.5",
+        "2.2250738585072011e-308",
+        "2.2250738585072014e-308",
+        "4.9e-324",
+        "2.4703282292062327e-324",
+        "2.4703282292062328e-324",
+        "1.7976931348623157e308",
+        "1.7976931348623158e308",
+        "1e309",
+        "1e-400",
+        "123456789012345678901234567890.123456789e-10",
+        "0.000000000000000000000000000000000000000000001",
+        "8.98846567431158e307",
+        "3.141592653589793238462643383279502884197169399375105820974944",
+        "1.00000000000000011102230246251565404236316680908203125",
+        "1.00000000000000011102230246251565404236316680908203124",
+        "1.00000000000000011102230246251565404236316680908203126",
+        "inf",
+        "-Infinity",
+        "NaN",
+        "-nan",
+        "1e00000000000000000000000000000000000000000000005",
+        "0e-999999999999",
+    ];
+
+    /// Strings `f64::from_str` rejects.
+    const NOT_NUMBERS: [&str; 16] = [
+        ".", "", "+", "-", "e5", "1e", "1e+", "1.2.3", "0x10", "1_000", " 1", "1 ", "--1", "+-1", "in",
+        "nan1",
+    ];
+
+    #[test]
+    fn the_grammar_is_from_str_s() {
+        for t in NUMBERS.iter().chain(&NOT_NUMBERS) {
+            let unsigned = t.strip_prefix(['+', '-']).unwrap_or(t);
+            let word = ["inf", "infinity", "nan"].iter().any(|w| unsigned.eq_ignore_ascii_case(w));
+            assert_eq!(is_decimal(unsigned) || word, t.parse::<f64>().is_ok(), "{t:?}");
+        }
+    }
+
+    // In wasm (`wasm-pack test --node`) through the JavaScript engine: the same bits.
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    fn numbers_read_as_from_str_reads_them() {
+        for t in NUMBERS.iter().chain(&NOT_NUMBERS) {
+            let expected = t.parse::<f64>().ok();
+            let got = parse_number(t);
+            let bits = |x: Option<f64>| {
+                x.map(|x| if x.is_nan() { (u64::MAX, x.is_sign_negative()) } else { (x.to_bits(), false) })
+            };
+            assert_eq!(bits(got), bits(expected), "{t:?}");
+        }
+    }
 }

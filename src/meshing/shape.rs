@@ -2,6 +2,7 @@
 //! common result of every way of making a shape (outline, picture, OBJ, JSON), and its
 //! JSON round trip.
 
+#[cfg(not(target_arch = "wasm32"))]
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -84,6 +85,7 @@ impl ShapeMesh {
     }
 
     /// The shape in the form [`ShapeMesh::to_json`] writes, for any serde serialiser.
+    #[cfg(not(target_arch = "wasm32"))]
     pub(crate) fn json_ref(&self) -> JsonRef<'_> {
         JsonRef {
             vertices: self.mesh.vertices(),
@@ -94,6 +96,7 @@ impl ShapeMesh {
     }
 
     /// Validates deserialised JSON data (see [`ShapeMesh::from_json`]).
+    #[cfg(not(target_arch = "wasm32"))]
     pub(crate) fn from_json_data(data: JsonOwned) -> Result<ShapeMesh> {
         let mesh = Mesh::new(data.vertices, data.triangles)?;
         match data.uvs {
@@ -118,7 +121,9 @@ impl ShapeMesh {
     }
 }
 
-/// The JSON form of a [`ShapeMesh`], borrowed.
+/// The JSON form of a [`ShapeMesh`], borrowed. (Native only: in wasm, `Mesh.toJSON` and
+/// `Mesh.fromJSON` build and read the JavaScript objects themselves, without serde.)
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Serialize)]
 pub(crate) struct JsonRef<'a> {
     vertices: &'a [[f64; 2]],
@@ -128,6 +133,7 @@ pub(crate) struct JsonRef<'a> {
 }
 
 /// The JSON form of a [`ShapeMesh`], read.
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct JsonOwned {

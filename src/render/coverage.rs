@@ -91,7 +91,15 @@ impl Coverage {
                 n += 1;
             }
         }
-        cuts[..n].sort_by(f64::total_cmp);
+        // Sorted by insertion (n ≤ 3): what the slice's stable sort by `total_cmp` gives,
+        // without a copy of its whole algorithm in the .wasm.
+        for i in 1..n {
+            let mut j = i;
+            while j > 0 && cuts[j].total_cmp(&cuts[j - 1]).is_lt() {
+                cuts.swap(j, j - 1);
+                j -= 1;
+            }
+        }
         let point =
             |t: f64| [(p[0] + t * (q[0] - p[0])).clamp(0.0, w), (p[1] + t * (q[1] - p[1])).clamp(0.0, h)];
         for k in 0..n {

@@ -1,12 +1,13 @@
 //! `Mesh`: shapes from outlines, pictures, OBJ files and JSON, with texture coordinates and
 //! boundary loops, for `Puppet.register`.
 
-use js_sys::{Float32Array, Float64Array, Uint32Array};
+use js_sys::{Array, Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
-use super::errors::bad_type;
+use super::errors::{bad_type, describe};
 use super::options::{image_options, outline_options};
-use super::{flat, items, read_items, rgba_bytes, string, typed, Thrown};
+use super::{flat, items, read_items, rgba_bytes, set, string, typed, Thrown};
+use crate::mesh::Mesh;
 use crate::meshing::{mesh_image, read_obj, shape_from_outline, ShapeMesh};
 use crate::Error;
 
@@ -102,7 +103,6 @@ impl JsMesh {
     pub fn from_json(
         #[wasm_bindgen(unchecked_param_type = "string | MeshJSON")] json: JsValue,
     ) -> Result<JsMesh, Thrown> {
-        let bad = |reason: String| Thrown::from(Error::BadJson { reason });
         let object = match json.as_string() {
             Some(text) => js_sys::JSON::parse(&text).map_err(|e| {
                 bad(e.dyn_into::<js_sys::Error>().map(|e| e.message().into()).unwrap_or_default())
@@ -112,7 +112,6 @@ impl JsMesh {
         let Some(fields) = object.dyn_ref::<js_sys::Object>() else {
             return Err(bad("expected a string or an object".into()));
         };
-        // serde-wasm-bindgen reads only the fields it knows: name an unknown one here.
         for key in js_sys::Object::keys(fields).iter() {
             if !["vertices", "triangles", "uvs", "boundary"].iter().any(|k| key == *k) {
                 let key = key.as_string().unwrap_or_default();
@@ -121,16 +120,41 @@ impl JsMesh {
                 )));
             }
         }
-        let data = serde_wasm_bindgen::from_value(object).map_err(|e| bad(e.to_string()))?;
-        Ok(JsMesh { shape: ShapeMesh::from_json_data(data)? })
+        let vertices = tuples(&object, "vertices", "[x, y]", number)?.ok_or_else(|| missing("vertices"))?;
+        let triangles =
+            tuples(&object, "triangles", "[a, b, c]", index)?.ok_or_else(|| missing("triangles"))?;
+        let uvs = tuples(&object, "uvs", "[u, v]", |v| number(v).map(|x| x as f32))?;
+        // The boundary is recomputed; a given one is only checked for its type.
+        let _: Option<Vec<Vec<u32>>> = field(&object, "boundary", |list, at| {
+            elements(list, at, |lp, at| {
+                elements(lp, &at, |v, at| index(v).ok_or_else(|| wrong(&at, "a vertex index", v)))
+            })
+        })?;
+        let mesh = Mesh::new(vertices, triangles)?;
+        Ok(JsMesh {
+            shape: match uvs {
+                Some(uvs) => ShapeMesh::new(mesh, uvs)?,
+                None => ShapeMesh::with_box_uvs(mesh),
+            },
+        })
     }
 
     /// The mesh as plain data, so that `JSON.stringify(mesh)` writes it and
     /// `Mesh.fromJSON(text)` reads it back exactly.
     #[wasm_bindgen(js_name = toJSON, unchecked_return_type = "MeshJSON")]
     pub fn to_json(&self) -> Result<JsValue, Thrown> {
-        serde_wasm_bindgen::to_value(&self.shape.json_ref())
-            .map_err(|e| Error::BadJson { reason: format!("could not encode ({e})") }.into())
+        fn list<T: Copy + Into<JsValue>>(items: impl Iterator<Item = impl AsRef<[T]>>) -> Array {
+            items
+                .map(|item| JsValue::from(item.as_ref().iter().map(|&x| x.into()).collect::<Array>()))
+                .collect()
+        }
+        let shape = &self.shape;
+        let object = js_sys::Object::new();
+        set(&object, "vertices", &list(shape.mesh().vertices().iter()));
+        set(&object, "triangles", &list(shape.mesh().triangles().iter()));
+        set(&object, "uvs", &list(shape.uvs().iter()));
+        set(&object, "boundary", &list(shape.boundary().iter()));
+        Ok(object.into())
     }
 
     /// The vertices `[x0, y0, …]`.
@@ -172,4 +196,79 @@ impl JsMesh {
     pub fn triangle_count(&self) -> usize {
         self.shape.mesh().triangles().len()
     }
+}
+
+/// A `bad-json` error.
+fn bad(reason: String) -> Thrown {
+    Thrown::from(Error::BadJson { reason })
+}
+
+fn missing(key: &str) -> Thrown {
+    bad(format!("missing field `{key}`"))
+}
+
+fn wrong(at: &str, expected: &str, got: &JsValue) -> Thrown {
+    bad(format!("{at}: expected {expected}, got {}", describe(got)))
+}
+
+/// A JS number (what serde read as `f64`).
+fn number(v: &JsValue) -> Option<f64> {
+    v.as_f64()
+}
+
+/// A vertex index: a whole JS number in `0..2³²`.
+fn index(v: &JsValue) -> Option<u32> {
+    v.as_f64().filter(|&x| x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64).map(|x| x as u32)
+}
+
+/// The items of a JS array, or of another iterable object (a typed array, say), each read
+/// by `read` with its path `at[i]`.
+fn elements<T>(
+    list: &JsValue,
+    at: &str,
+    read: impl Fn(&JsValue, String) -> Result<T, Thrown>,
+) -> Result<Vec<T>, Thrown> {
+    let array: Array = match list.dyn_ref::<Array>() {
+        Some(a) => a.clone(),
+        None if list.is_object() && !list.is_function() => Array::from(list),
+        None => return Err(wrong(at, "an array", list)),
+    };
+    array.iter().enumerate().map(|(i, v)| read(&v, format!("{at}[{i}]"))).collect()
+}
+
+/// Field `key` of `object` read by `read`, `None` when it is `undefined` or `null`.
+fn field<T>(
+    object: &JsValue,
+    key: &str,
+    read: impl Fn(&JsValue, &str) -> Result<T, Thrown>,
+) -> Result<Option<T>, Thrown> {
+    let v = js_sys::Reflect::get(object, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+    if v.is_undefined() || v.is_null() {
+        return Ok(None);
+    }
+    read(&v, key).map(Some)
+}
+
+/// Field `key` as a list of `N`-tuples (`[x, y]` points, `[a, b, c]` triangles), each entry
+/// read by `entry`.
+fn tuples<T: Copy + Default, const N: usize>(
+    object: &JsValue,
+    key: &str,
+    shape: &str,
+    entry: impl Fn(&JsValue) -> Option<T>,
+) -> Result<Option<Vec<[T; N]>>, Thrown> {
+    field(object, key, |list, at| {
+        elements(list, at, |v, at| {
+            let item = elements(v, &at, |x, _| Ok(x.clone()))?;
+            if item.len() != N {
+                return Err(wrong(&at, shape, v));
+            }
+            let mut out = [T::default(); N];
+            for (k, (slot, x)) in out.iter_mut().zip(&item).enumerate() {
+                let what = if N == 3 { "a vertex index" } else { "a number" };
+                *slot = entry(x).ok_or_else(|| wrong(&format!("{at}[{k}]"), what, x))?;
+            }
+            Ok(out)
+        })
+    })
 }
