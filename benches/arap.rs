@@ -4,7 +4,8 @@
 //! injective with its default budget) on the same drag at 3k and 30k vertices. Prints
 //! Markdown tables.
 //!
-//! `cargo bench --bench arap` (add `-- --quick` for fewer repetitions).
+//! `cargo bench --bench arap` (add `-- --quick` for fewer repetitions, `-- --pins` for the
+//! pin kinds' table alone).
 
 use bunraku::deform::Method;
 use bunraku::meshing::{mesh_outline, spacing_for_vertices, star, OutlineOptions};
@@ -28,9 +29,77 @@ fn drag(f: usize, frames: usize) -> [[f64; 2]; 4] {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    if std::env::args().any(|a| a == "--pins") {
+        return rotating_pins(quick);
+    }
     two_step(quick);
     println!();
     methods(quick);
+    println!();
+    rotating_pins(quick);
+}
+
+/// Issue 11's pin kinds against position pins with the injective method: the same drag with
+/// 4 position pins, and with 1 position, 2 advanced and 1 bend pin at the same places (all
+/// turning every frame), frame by frame interleaved, with a counted budget (20
+/// back-substitutions). Prints the update's cost, and its cost per Newton iteration and per
+/// back-substitution: with the same budget the rotating set's conjugate gradients converge
+/// in fewer steps, so it makes more Newton iterations (each with its line search and its
+/// max-step pass) for the same back-substitutions.
+fn rotating_pins(quick: bool) {
+    use bunraku::{Pin, PinKind, Rotation};
+    let outline = star(5, 0.5, 1.0);
+    let area = 5.0 * 0.5 * 1.0 * (std::f64::consts::PI / 5.0).sin();
+    let kinds: [(&str, [PinKind; 4]); 2] = [
+        ("position", [PinKind::Position; 4]),
+        ("rotating", [PinKind::Position, PinKind::Advanced, PinKind::Bend, PinKind::Advanced]),
+    ];
+    println!("| vertices | pins | update median (ms) | Newton iterations per update | ms per iteration | ms per back-substitution |");
+    println!("|---:|---|---:|---:|---:|---:|");
+    for target in [3_000usize, 30_000] {
+        let options = OutlineOptions::new().with_spacing(spacing_for_vertices(area, target));
+        let mesh = mesh_outline(&outline, &[], &options).expect("star meshes");
+        let rest = Rest::register(mesh, Options { max_solves: Some(20), ..Options::default() }).unwrap();
+        let mut sets: Vec<_> = kinds
+            .iter()
+            .map(|(name, kinds)| {
+                let pins: Vec<Pin> = HANDLES
+                    .iter()
+                    .zip(kinds)
+                    .map(|(&p, &kind)| Pin { kind, ..Pin::from(Handle::Point(p)) })
+                    .collect();
+                (name, rest.compile_pins(&pins).unwrap(), Vec::new(), 0usize, 0usize)
+            })
+            .collect();
+        let frames = if quick || target > 10_000 { 40 } else { 120 };
+        for f in 0..frames + 10 {
+            let targets = drag(f, frames);
+            let rotations: Vec<Rotation> = (0..4)
+                .map(|k| Rotation { angle: 0.6 * (f as f64 / 9.0 + k as f64).sin(), scale: 1.0 })
+                .collect();
+            for (_, pinned, times, iterations, solves) in sets.iter_mut() {
+                let t = ms(|| {
+                    std::hint::black_box(pinned.update_with(&targets, &rotations).unwrap());
+                });
+                if f >= 10 {
+                    times.push(t);
+                    *iterations += pinned.report().iterations;
+                    *solves += pinned.report().solves;
+                }
+            }
+        }
+        for (name, pinned, times, iterations, solves) in sets {
+            let total: f64 = times.iter().sum();
+            println!(
+                "| {} | {name} | {:.3} | {:.1} | {:.3} | {:.4} |",
+                pinned.rest().mesh().vertices().len(),
+                median(times),
+                iterations as f64 / frames as f64,
+                total / iterations.max(1) as f64,
+                total / solves.max(1) as f64,
+            );
+        }
+    }
 }
 
 /// Every method on the same drag: register, compile, update median and p95, and for the

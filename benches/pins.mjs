@@ -1,8 +1,8 @@
 // Node benchmark of issue 11's pins in the release wasm build (pkg/): the update cost with
 // bend and advanced pins against the same number of position pins at the same places, for
 // every method, interleaved frame by frame in one run (the injective method with a counted
-// budget, maxSolves 20, so that both do the same work); and setStarch / setOverlap at 30k
-// vertices. The star meshes of benches/wasm.mjs. Prints Markdown tables.
+// budget, maxSolves 20, so that both do the same work); and compile, setStarch and setOverlap
+// at 30k vertices for every method. The star meshes of benches/wasm.mjs. Prints Markdown tables.
 //
 //   node benches/pins.mjs [--quick]
 
@@ -52,22 +52,25 @@ for (const n of [3000, 30000]) {
     for (const q of puppets) q.p.free();
   }
   if (n > 10000) {
-    const p = Puppet.register(v, t, { method: "two-step" });
-    p.compile(handles);
     const starch = [{ at: [0, 0.3], amount: 1, extent: 0.3 }, { at: [0.5, 0.1], amount: 0.5, extent: 0.2 }];
     const overlap = [{ at: [0, 0.3], depth: 1, extent: 0.4 }, { at: [-0.5, 0.1], depth: -1, extent: 0.2 }];
-    const s = [];
-    const o = [];
-    for (let r = 0; r < (quick ? 2 : 5); r++) {
-      s.push(ms(() => p.setStarch(starch)));
-      o.push(ms(() => p.setOverlap(overlap)));
-    }
     console.log("");
-    console.log(`| ${v.length / 2} vertices, two regions | median (ms) |`);
-    console.log("|---|---:|");
-    console.log(`| setStarch (a numeric refactorisation, two-step) | ${median(s).toFixed(1)} |`);
-    console.log(`| setOverlap | ${median(o).toFixed(1)} |`);
-    p.free();
+    console.log(`${v.length / 2} vertices, two regions, 4 position pins; medians of ${quick ? 2 : 5} calls (ms):`);
+    console.log("");
+    console.log("| method | compile | setStarch (a numeric refactorisation) | setOverlap |");
+    console.log("|---|---:|---:|---:|");
+    for (const method of ["two-step", "nonlinear", "injective"]) {
+      const p = Puppet.register(v, t, { method });
+      const [c, s, o] = [[], [], []];
+      for (let r = 0; r < (quick ? 2 : 5); r++) {
+        c.push(ms(() => p.compile(handles)));
+        s.push(ms(() => p.setStarch(starch)));
+        o.push(ms(() => p.setOverlap(overlap)));
+        p.setStarch([]);
+      }
+      console.log(`| ${method} | ${median(c).toFixed(1)} | ${median(s).toFixed(1)} | ${median(o).toFixed(1)} |`);
+      p.free();
+    }
   }
   mesh.free();
 }

@@ -4,15 +4,17 @@
 #   2. cargo test                          native: unit, integration and doc tests
 #   3. wasm-pack test --node               #[wasm_bindgen_test] tests (tests/web.rs) in Node
 #   4. scripts/build-wasm.sh               the npm package in pkg/ (skipped when up to date)
+#      scripts/build-gl.mjs                its WebGL2 helper `bunraku/gl` in dist/ (likewise)
 #   5. node --test tests/node/*.mjs        Node tests of the built package; every .mjs, .js
 #                                          or .cjs file directly in tests/node/ whose name
 #                                          does not start with "_" is a test file
 #   6. node --test tests/browser/          the demo page end to end in headless Chromium
 #                                          (builds www/dist/ first, with its type check,
-#                                          when it is out of date)
+#                                          when it is out of date), and bunraku/gl there
 #   7. node --test tests/examples/         the npm package as users get it: `npm pack`,
 #                                          installed into copies of examples/node and
-#                                          examples/vite (Vite build opened in Chromium)
+#                                          examples/vite (Vite build opened in Chromium:
+#                                          the drag page and the playback page)
 # and prints the total of the runners' counts as a last line.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
@@ -50,6 +52,7 @@ step "cargo test (native)" cargo test
 # examples nor the doc tests, which `cargo test` already covers natively.
 step "wasm-pack test --node" wasm-pack test --node --mode no-install -- --lib --test '*'
 step "build the wasm package" bash scripts/build-wasm.sh
+step "build the WebGL2 helper (bunraku/gl)" node scripts/build-gl.mjs
 
 node_tests=()
 if [ -d tests/node ]; then

@@ -158,3 +158,18 @@ pub(crate) fn triples_from_flat<T: Copy>(what: &'static str, flat: &[T]) -> Resu
     }
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
+
+/// The triangles of an `n × n` grid of `(n + 1)²` vertices numbered row by row, two per cell,
+/// counter-clockwise (for the unit tests' meshes).
+#[cfg(test)]
+pub(crate) fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
+    let id = |x: u32, y: u32| y * (n + 1) + x;
+    let mut t = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            t.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
+            t.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    t
+}

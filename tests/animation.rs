@@ -2,8 +2,8 @@
 //! exact at its samples and linear between them, its angles are continuous through several
 //! turns, smoothing does not depend on the recording rate; a puppet document survives
 //! saving and loading bit for bit; playback at 30 and at 60 fps lands on the same pose at
-//! the same time (exactly for the stateless methods and blended poses, to the convergence
-//! tolerance for the injective method); and named errors that leave tracks and players as
+//! the same time, bit for bit, for every method (the injective one restores the state it
+//! kept after each sample); `Pinned::save` / `restore`; and named errors that leave tracks and players as
 //! they were. Meshes are small: CI runs these in a debug build.
 //! Native only: documents are read and written as JSON text natively (in wasm the
 //! JavaScript engine does it; tests/node/animation.test.mjs covers that side).
@@ -17,7 +17,8 @@ use bunraku::animation::{
     Document, MeshJson, Mode, PinsJson, Player, PoseJson, PuppetJson, Track, TrackJson, TrackOptions,
     WeightsJson, FORMAT, VERSION,
 };
-use bunraku::{Error, PinKind, Rotation};
+use bunraku::deform::PoseState;
+use bunraku::{Error, Handle, Mesh, Options, PinKind, Rest, Rotation};
 use common::{diameter, max_dist, rigid, Grid};
 
 fn track(kinds: Vec<PinKind>) -> Track {
@@ -349,34 +350,78 @@ fn weights_play_the_poses_and_loop() {
 }
 
 #[test]
-fn injective_playback_at_30_and_60_fps_agrees_to_its_tolerance() {
-    // 10 samples a second (each frame rate visits every one), the first second played.
+fn injective_playback_at_30_and_60_fps_lands_on_the_same_bits() {
+    // 10 samples a second, the first second played.
     let d = track_document_at("injective", 10);
     let (mut p30, mut p60) = (Player::new(d.clone()).unwrap(), Player::new(d.clone()).unwrap());
-    let size = diameter(p30.mesh().vertices());
     let frames60 = play(&mut p60, 60, 1);
-    let (mut worst, mut moved) = (0.0f64, 0.0f64);
     let frames30 = play(&mut p30, 30, 1);
+    let mut moved = 0.0f64;
     for (key, positions) in &frames30 {
-        let (key, positions) = (*key, positions.clone());
-        worst = worst.max(max_dist(&positions, &frames60[key].1));
-        moved = moved.max(max_dist(&positions, p30.mesh().vertices()));
+        assert_eq!(bits(positions), bits(&frames60[*key].1), "30 against 60 fps at frame {key}");
+        moved = moved.max(max_dist(positions, p30.mesh().vertices()));
     }
-    eprintln!("injective, 30 fps against 60 fps: {worst:e} of a diameter of {size}, moved {moved}");
     assert!(moved > 0.5, "the animation moves the shape ({moved})");
-    assert!(worst < 1e-4 * size, "30 fps against 60 fps: {worst:e} of {size}");
-    // Deterministic: the same calls give the same bits. Seeking back walks the samples
-    // again from rest: what a fresh player gives for that time and the forward playback's
-    // pose, to the tolerance.
-    let mut again = Player::new(d.clone()).unwrap();
-    let replay = play(&mut again, 30, 1);
-    assert_eq!(
-        replay.iter().map(|f| bits(&f.1)).collect::<Vec<_>>(),
-        frames30.iter().map(|f| bits(&f.1)).collect::<Vec<_>>()
-    );
-    let back = again.positions_at(0.5).unwrap();
-    assert!(max_dist(&back, &Player::new(d).unwrap().positions_at(0.5).unwrap()) < 1e-4 * size);
-    assert!(max_dist(&back, &replay[15].1) < 1e-4 * size);
+    // Seeking back restores a kept state instead of walking from rest: the same bits as a
+    // fresh player that goes straight there, and as the forward playback's frame.
+    let back = p30.positions_at(0.5).unwrap();
+    assert_eq!(bits(&back), bits(&Player::new(d.clone()).unwrap().positions_at(0.5).unwrap()));
+    assert_eq!(bits(&back), bits(&frames30[15].1));
+    // Between two samples (0.2 s and 0.3 s): their poses interpolated, as the targets are.
+    let (a, b) = (p30.positions_at(0.2).unwrap(), p30.positions_at(0.3).unwrap());
+    let mid = p30.positions_at(0.275).unwrap();
+    let lerp: Vec<[f64; 2]> =
+        a.iter().zip(&b).map(|(p, q)| [p[0] + 0.75 * (q[0] - p[0]), p[1] + 0.75 * (q[1] - p[1])]).collect();
+    assert!(max_dist(&mid, &lerp) < 1e-12 * diameter(&a), "between samples");
+    assert!(max_dist(&a, &b) > 1e-3, "the samples differ");
+    // Every pose played is injective (the method's guarantee survives the restores).
+    let tris = p30.mesh().triangles().to_vec();
+    for (_, positions) in frames30.iter().chain(&frames60) {
+        for t in &tris {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+        }
+    }
+}
+
+#[test]
+fn pinned_save_and_restore_continue_bit_for_bit() {
+    let d = track_document_at("injective", 10);
+    let mesh = Mesh::from_flat(&d.mesh.vertices, &d.mesh.triangles).unwrap();
+    let rest = Rest::register(mesh, Options { max_solves: Some(30), ..Options::default() }).unwrap();
+    let points: Vec<[f64; 2]> = d.pins.as_ref().unwrap().points.chunks(2).map(|c| [c[0], c[1]]).collect();
+    let mut pinned = rest.compile(&points.iter().map(|&p| Handle::Point(p)).collect::<Vec<_>>()).unwrap();
+    let moved = |k: f64| points.iter().map(|p| [p[0] + 0.3 * k, p[1] - 0.2 * k]).collect::<Vec<_>>();
+    pinned.update(&moved(1.0)).unwrap();
+    let saved = pinned.save();
+    let next = bits(pinned.update(&moved(2.0)).unwrap());
+    // Something else in between, then back.
+    pinned.update(&moved(-1.0)).unwrap();
+    pinned.update(&moved(-1.0)).unwrap();
+    pinned.restore(&saved).unwrap();
+    assert_eq!(bits(pinned.positions()), bits(saved.positions()));
+    assert_eq!(bits(pinned.update(&moved(2.0)).unwrap()), next);
+    // A reset starts over as after compilation.
+    let mut fresh = rest.compile(&points.iter().map(|&p| Handle::Point(p)).collect::<Vec<_>>()).unwrap();
+    let first = bits(fresh.update(&moved(2.0)).unwrap());
+    pinned.reset();
+    assert_eq!(bits(pinned.update(&moved(2.0)).unwrap()), first);
+    // Named errors, the pin set unchanged: another vertex count, a flipped state.
+    let before = bits(pinned.positions());
+    let other = Rest::register(
+        Mesh::from_flat(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], &[0, 1, 2]).unwrap(),
+        Options::default(),
+    )
+    .unwrap()
+    .compile(&[Handle::Point([0.2, 0.2])])
+    .unwrap()
+    .save();
+    assert_eq!(pinned.restore(&other).unwrap_err().code(), "bad-length");
+    // The saved pose mirrored in x: every triangle flips.
+    let m: Vec<[f64; 2]> = pinned.positions().iter().map(|p| [-p[0], p[1]]).collect();
+    let e = pinned.restore(&PoseState::from_positions(m)).unwrap_err();
+    assert_eq!(e.code(), "flipped-triangles", "{e}");
+    assert_eq!(bits(pinned.positions()), before);
 }
 
 #[test]

@@ -7,7 +7,8 @@
 //   1. type-checks www/src/ (tsc --noEmit, strict: www/tsconfig.json for the page,
 //      www/tsconfig.worker.json for the worker)
 //   2. bundles www/src/main.ts (the page) and www/src/worker.ts (the module worker that
-//      owns the puppets) with esbuild into main.js and worker.js (ES modules, source maps)
+//      owns the puppets) with esbuild into main.js and worker.js (ES modules, source maps);
+//      the page's WebGL2 drawing is the package's own helper, bundled from js/gl.ts
 //   3. copies index.html, style.css, the default puppet (assets/gingerbread.png) and the
 //      wasm module (pkg/bunraku_bg.wasm, which the worker and the Canvas 2D fallback
 //      load) next to the bundles
@@ -60,6 +61,8 @@ function filesUnder(dir) {
 function inputs() {
   return [
     ...filesUnder(join(www, "src")),
+    // The package's WebGL2 helper (`bunraku/gl`), which the page bundles from its source.
+    join(root, "js", "gl.ts"),
     ...COPIES.map(([source]) => source),
     join(www, "tsconfig.json"),
     join(www, "tsconfig.worker.json"),

@@ -6,6 +6,9 @@
 //   cd examples/node && npm install     (links the repository's package: build it first)
 //   node animate.mjs [frames] [folder] [document] [fps]
 //     defaults: one loop of wave.bunraku.json at 12 fps into <tmp>/bunraku-animation
+//   node animate.mjs 48 frames ../../assets/gingerbread.bunraku.json
+//     the document made in the demo page (scripts/demo-document.mjs), which the Vite
+//     example's playback page plays too; its picture is assets/gingerbread.png beside it
 
 import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";

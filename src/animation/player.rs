@@ -7,6 +7,7 @@ use super::{
 };
 use super::{Track, TrackOptions};
 use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
+use crate::deform::PoseState;
 use crate::deform::{Method, Overlap, Starch};
 use crate::error::{Error, Result};
 use crate::meshing::ShapeMesh;
@@ -19,6 +20,10 @@ pub const INJECTIVE_SOLVES: u32 = 200;
 /// How many held updates a [`Player`] makes at most, per time it visits, for the injective
 /// method to converge.
 pub const INJECTIVE_ROUNDS: usize = 20;
+
+/// How much memory a [`Player`] keeps at most of the injective method's states along a pin
+/// track (bytes): the state after every sample when they fit, else after every k-th.
+pub const INJECTIVE_STATE_BYTES: usize = 64 << 20;
 
 /// What a [`Player`] plays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,15 +44,20 @@ pub enum Mode {
 ///   `t` alone. Playback at 30 fps and at 60 fps gives the same positions, bit for bit, at
 ///   the same time, and seeking anywhere is one solve.
 /// * **Pin tracks with the injective method**, which is warm-started (its result depends
-///   on where it starts): the player walks the recording. Every update has a counted
-///   budget (`puppet.maxSolves`, default [`INJECTIVE_SOLVES`]) and is held until the
-///   method reports convergence (at most [`INJECTIVE_ROUNDS`] updates); each time the
-///   player is asked for runs every track sample since the last time asked for, in order,
-///   then the time itself. So every frame rate visits every recorded sample (the path the
-///   user dragged), and two frame rates land on the same local minimum at the same time,
-///   to the method's convergence tolerance rather than bit for bit. A time earlier than the
-///   last one asked for (seeking back, a loop starting over) starts again from rest. The
-///   result is the same on every machine and at any load (no wall-clock budget).
+///   on where it starts): the player walks the recording once, keeping the method's state
+///   after each sample ([`Pinned::save`]; after every k-th when they would take more than
+///   [`INJECTIVE_STATE_BYTES`], walking from the nearest). The state after sample `j` is the
+///   state after sample `j − 1` ([`Pinned::restore`]; the rest shape before sample 0) and
+///   held updates at sample `j`'s targets, each with a counted budget (`puppet.maxSolves`,
+///   default [`INJECTIVE_SOLVES`]), until the method reports convergence (at most
+///   [`INJECTIVE_ROUNDS`] updates). Between two samples the positions are interpolated
+///   linearly between their states, as the track interpolates its targets; where that
+///   would flip a triangle, they are one update (its counted budget, not held to
+///   convergence) at the track's targets from the earlier state instead. So the positions depend on `t` alone (30 fps and 60 fps give the same
+///   positions at the same time, bit for bit), every pose is injective, a frame between two
+///   states it has costs no solve, and seeking back or looping costs no walk from rest.
+///   The first pass over the track walks every sample it reaches. The result is the same
+///   on every machine and at any load (no wall-clock budget).
 ///
 /// With `loop`, time `t` plays `t mod duration`. Before the first sample the animation
 /// holds its first sample, after the last its last.
@@ -77,9 +87,18 @@ struct Driven {
     targets: Vec<[f64; 2]>,
     rotations: Vec<Rotation>,
     injective: bool,
-    /// Injective: how many samples the solver has visited, and the last time asked for.
-    visited: usize,
-    last: f64,
+    /// Injective: the state after sample `j · stride` for `j < states.len()` (see
+    /// [`Driven::walk_to`]), kept as far as the player has walked.
+    states: Vec<PoseState>,
+    /// Every how many samples a state is kept: 1 unless the states of every sample would
+    /// take more than [`INJECTIVE_STATE_BYTES`].
+    stride: usize,
+    /// The state between two kept ones.
+    scratch: PoseState,
+    /// Injective: the sample `s` whose state and the next one's `before` and `after` hold.
+    around: Option<usize>,
+    before: PoseState,
+    after: PoseState,
 }
 
 /// Poses blended along a weight track.
@@ -261,23 +280,91 @@ impl Player {
 impl Driven {
     fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
         if self.injective {
-            if t < self.last {
-                self.pinned.reset();
-                self.visited = 0;
-            }
-            while self.track.times().get(self.visited).is_some_and(|&s| s <= t) {
-                self.track.sample_at(self.visited, &mut self.targets, &mut self.rotations);
-                self.settle()?;
-                self.visited += 1;
-            }
-            self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
-            self.settle()?;
-            self.last = t;
+            return self.interpolated(t, out);
         } else {
             self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
             self.pinned.update_with(&self.targets, &self.rotations)?;
         }
         out.copy_from_slice(self.pinned.positions());
+        Ok(())
+    }
+
+    /// Injective: the positions at `t` between the states after the samples around it (see
+    /// [`Player`]), or one update from the earlier one where the interpolation would flip a
+    /// triangle.
+    fn interpolated(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
+        let times = self.track.times();
+        // The last sample at or before `t` (the first before it: the track holds it there).
+        let s = times.partition_point(|&x| x <= t).saturating_sub(1);
+        let next = (s + 1 < times.len() && t > times[s]).then(|| (t - times[s]) / (times[s + 1] - times[s]));
+        let count = times.len();
+        if self.around != Some(s) {
+            self.around = None;
+            self.walk_to(s)?;
+            self.pinned.save_into(&mut self.before);
+            if s + 1 < count {
+                self.walk_to(s + 1)?;
+                self.pinned.save_into(&mut self.after);
+            }
+            self.around = Some(s);
+        }
+        let Some(a) = next else {
+            out.copy_from_slice(self.before.positions());
+            return Ok(());
+        };
+        for ((o, p), q) in out.iter_mut().zip(self.before.positions()).zip(self.after.positions()) {
+            *o = [p[0] + a * (q[0] - p[0]), p[1] + a * (q[1] - p[1])];
+        }
+        let flips = self.pinned.rest().mesh().triangles().iter().any(|tri| {
+            let [p, q, r] = tri.map(|v| out[v as usize]);
+            let det = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+            det <= 0.0 || det.is_nan()
+        });
+        if flips {
+            self.around = None;
+            self.pinned.restore(&self.before)?;
+            self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
+            // One update (its counted budget), not held to convergence: a frame's cost stays
+            // bounded, and the method keeps every triangle's orientation at every step.
+            self.pinned.update_with(&self.targets, &self.rotations)?;
+            out.copy_from_slice(self.pinned.positions());
+        }
+        Ok(())
+    }
+
+    /// Injective: leaves the pin set in the state after sample `s`, where "the state after
+    /// sample `j`" is, for every `j`, the state after sample `j − 1` restored
+    /// ([`Pinned::restore`]; the rest shape before sample 0), then held updates at sample
+    /// `j`. It walks from the nearest kept state at or before `s`, keeping the state after
+    /// every `stride`-th sample as it first passes it; so every frame rate and every seek
+    /// reaches the same state, bit for bit, and a loop or a seek back costs a restore, not
+    /// a walk from rest.
+    fn walk_to(&mut self, s: usize) -> Result<()> {
+        let stride = self.stride;
+        let mut j = match self.states.len() {
+            0 => {
+                self.pinned.reset();
+                self.track.sample_at(0, &mut self.targets, &mut self.rotations);
+                self.settle()?;
+                self.states.push(self.pinned.save());
+                0
+            }
+            kept => (s / stride).min(kept - 1) * stride,
+        };
+        self.pinned.restore(&self.states[j / stride])?;
+        while j < s {
+            j += 1;
+            self.track.sample_at(j, &mut self.targets, &mut self.rotations);
+            self.settle()?;
+            if j % stride == 0 {
+                // Past every kept state: `j / stride` is the next to keep.
+                self.states.push(self.pinned.save());
+                self.pinned.restore(&self.states[j / stride])?;
+            } else {
+                self.pinned.save_into(&mut self.scratch);
+                self.pinned.restore(&self.scratch)?;
+            }
+        }
         Ok(())
     }
 
@@ -345,14 +432,19 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
         pinned.set_starch(&starch)?;
     }
     let track = track.with_kinds(pins.iter().map(|p| p.kind).collect());
+    let stride = (track.sample_count() * 16 * mesh.vertices().len()).div_ceil(INJECTIVE_STATE_BYTES).max(1);
     Ok(Driven {
         pinned,
         track,
         targets: vec![[0.0; 2]; n],
         rotations: vec![Rotation::default(); n],
         injective: options.method == Method::Injective,
-        visited: 0,
-        last: f64::NEG_INFINITY,
+        states: Vec::new(),
+        stride,
+        scratch: PoseState::default(),
+        around: None,
+        before: PoseState::default(),
+        after: PoseState::default(),
     })
 }
 

@@ -230,15 +230,7 @@ mod tests {
                 v.push([x as f64 * 0.7 + 0.1 * (y as f64).sin(), y as f64 * 0.9 + 0.05 * (x as f64).cos()]);
             }
         }
-        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-        let mut t = Vec::new();
-        for y in 0..n {
-            for x in 0..n {
-                t.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
-                t.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
-        Mesh::new(v, t).unwrap()
+        Mesh::new(v, crate::mesh::grid_triangles(n as u32)).unwrap()
     }
 
     #[test]

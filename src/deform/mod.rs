@@ -51,7 +51,7 @@ pub(crate) mod two_step;
 pub use clock::set_clock;
 pub use injective::Report;
 pub use pin_set::DISC_STIFFNESS;
-pub use pinned::Pinned;
+pub use pinned::{Pinned, PoseState};
 pub use pins::{Handle, Pin, PinKind, Rotation, Target};
 pub use rest::Rest;
 pub use starch::{Overlap, Starch};

@@ -1,8 +1,8 @@
 //! [`Pinned`]: a compiled pin set on a [`Rest`] shape (Igarashi & Igarashi 2009, section 6,
 //! "compilation" and "interactive update").
 
-use super::components::place_unsolved;
-use super::injective::{Injective, Report};
+use super::components::{place_unsolved, Motion};
+use super::injective::{add_held_terms, Injective, Report};
 use super::nonlinear::Nonlinear;
 use super::pin_set::PinSet;
 use super::pins::{Pin, Rotation};
@@ -32,6 +32,27 @@ pub struct Pinned {
     /// `[0, 1]` for every pin: the rotations of an update that gives none.
     unturned: Vec<Rotation>,
     report: Report,
+}
+
+/// A saved state of a [`Pinned`] ([`Pinned::save`], [`Pinned::restore`]): the positions,
+/// and what the injective method carries from one update to the next.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PoseState {
+    positions: Vec<[f64; 2]>,
+    floor: f64,
+}
+
+impl PoseState {
+    /// A state at `positions` (one per vertex), for [`Pinned::restore`]: a pose saved
+    /// elsewhere, with the injective method's adaptive state as after compilation.
+    pub fn from_positions(positions: Vec<[f64; 2]>) -> PoseState {
+        PoseState { positions, floor: 0.0 }
+    }
+
+    /// The saved positions, one per vertex.
+    pub fn positions(&self) -> &[[f64; 2]] {
+        &self.positions
+    }
 }
 
 /// The method's numeric state.
@@ -213,7 +234,8 @@ impl Pinned {
     }
 
     /// Returns the state to the rest shape (the injective method's warm start; the stateless
-    /// methods have none): the positions become the rest positions.
+    /// methods have none): the positions become the rest positions, and the next updates
+    /// compute what they computed after compilation.
     pub fn reset(&mut self) {
         let rest = self.rest.0.mesh.vertices();
         if let Solver::Injective(injective) = &mut self.solver {
@@ -221,6 +243,64 @@ impl Pinned {
         }
         self.positions.copy_from_slice(rest);
         self.report = Report { converged: true, ..Report::default() };
+    }
+
+    /// The state the next update starts from: the positions and, for the injective method
+    /// (warm-started), its solver's adaptive state. [`Pinned::restore`] returns to it, so
+    /// that a player can seek or loop without walking from rest again, and an editor can
+    /// undo a drag.
+    pub fn save(&self) -> PoseState {
+        let floor = match &self.solver {
+            Solver::Injective(injective) => injective.floor(),
+            _ => 0.0,
+        };
+        PoseState { positions: self.positions.clone(), floor }
+    }
+
+    /// [`Pinned::save`] into `state`, reusing its buffer (no allocation when it already
+    /// holds this mesh's vertex count).
+    pub fn save_into(&self, state: &mut PoseState) {
+        state.positions.clear();
+        state.positions.extend_from_slice(&self.positions);
+        state.floor = match &self.solver {
+            Solver::Injective(injective) => injective.floor(),
+            _ => 0.0,
+        };
+    }
+
+    /// Returns to a state from [`Pinned::save`] on this pin set (or one compiled on the same
+    /// rest shape): the next update computes exactly what it computed after the update that
+    /// was saved, bit for bit. The stateless methods only take its positions (their next
+    /// update overwrites them).
+    ///
+    /// Errors (the pin set is unchanged): [`Error::CountMismatch`] for another vertex count,
+    /// [`Error::FlippedTriangles`] when the injective method's solved triangles are not all
+    /// positively oriented in it (it must start from an injective pose).
+    pub fn restore(&mut self, state: &PoseState) -> Result<()> {
+        let n = self.positions.len();
+        if state.positions.len() != n {
+            return Err(Error::CountMismatch { what: "positions", got: state.positions.len(), expected: n });
+        }
+        if let Solver::Injective(injective) = &mut self.solver {
+            let motion = &self.pins.motion;
+            let x = &state.positions;
+            let (mut count, mut first) = (0, 0);
+            for (k, t) in self.rest.0.mesh.triangles().iter().enumerate() {
+                let [a, b, c] = t.map(|v| x[v as usize]);
+                let det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+                if motion[t[0] as usize] == Motion::Solve && (det <= 0.0 || det.is_nan()) {
+                    first = if count == 0 { k } else { first };
+                    count += 1;
+                }
+            }
+            if count > 0 {
+                return Err(Error::FlippedTriangles { count, first });
+            }
+            injective.restore(x, state.floor);
+        }
+        self.positions.copy_from_slice(&state.positions);
+        self.report = Report { converged: true, ..Report::default() };
+        Ok(())
     }
 
     /// The largest distance between a position-holding pin's point on the positions and
@@ -282,8 +362,11 @@ impl Solver {
                 Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
             }
             Method::Injective => {
-                // Only step 2's factor: it preconditions the Newton systems.
-                let step2 = Step2::new(system, Factor::new(&system.step2, &values.step2)?);
+                // Only step 2's factor, with the held triangles' terms: it preconditions the
+                // Newton systems.
+                let mut step2_values = values.step2;
+                add_held_terms(system, &data.mesh, pins, w, &mut step2_values);
+                let step2 = Step2::new(system, Factor::new(&system.step2, &step2_values)?);
                 Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
             }
         })

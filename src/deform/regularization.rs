@@ -200,15 +200,7 @@ mod tests {
                 v.push([x as f64 + j, y as f64 - j]);
             }
         }
-        let id = |x: u32, y: u32| y * (n + 1) + x;
-        let mut t = Vec::new();
-        for y in 0..n {
-            for x in 0..n {
-                t.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
-                t.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
-        Mesh::new(v, t).unwrap()
+        Mesh::new(v, crate::mesh::grid_triangles(n)).unwrap()
     }
 
     /// Written from the module docs alone, apart from the solver: each edge's residual

@@ -69,7 +69,7 @@ impl System {
         order: Option<&[usize]>,
         regularization: Option<Regularization>,
     ) -> Result<System> {
-        let (mut t1, t2) = edge_triplets(&stencils, None);
+        let (mut t1, t2) = edge_triplets(&stencils);
         if let Some(r) = &regularization {
             t1.extend(r.step1_triplets(&stencils));
         }
@@ -102,30 +102,30 @@ impl System {
 
     /// The edge terms with edge `k`'s rows multiplied by `√multipliers[k]` (its energy by
     /// `multipliers[k]`), in the same patterns, with the regularisation's terms as
-    /// registered. All ones give [`System::edge_values`] up to the order of summation.
+    /// registered: the registered values plus `(multipliers[k] − 1)` times the terms of
+    /// every edge whose multiplier is not 1, so that the cost grows with the stiffened
+    /// region, not with the mesh (starch usually covers a limb; a disc, a few edges). All
+    /// ones give [`System::edge_values`] exactly.
     pub(crate) fn weighted_edge_values(&self, multipliers: &[f64]) -> Values {
-        let mut values = Values {
-            step1: vec![C64::new(0.0, 0.0); self.edge_terms.step1.len()],
-            step2: vec![0.0; self.edge_terms.step2.len()],
-            step2_complex: None,
-        };
-        let (mut t1, t2) = edge_triplets(&self.stencils, Some(multipliers));
-        if let Some(r) = &self.regularization {
-            t1.extend(r.step1_triplets(&self.stencils));
-        }
-        for (r, c, v) in t1 {
-            values.step1[slot(&self.step1, r as usize, c as usize)] += v;
-        }
-        for (r, c, v) in t2 {
-            values.step2[slot(&self.step2, r as usize, c as usize)] += v;
-        }
-        values.step2_complex = self.regularization.as_ref().map(|r| {
-            let mut z: Vec<C64> = values.step2.iter().map(|&v| C64::new(v, 0.0)).collect();
-            for (a, b, v) in r.step2_triplets() {
-                z[slot(&self.step2, a as usize, b as usize)] += v;
+        let mut values = self.edge_terms.clone();
+        let Values { step1, step2, step2_complex } = &mut values;
+        for (s, &m) in self.stencils.iter().zip(multipliers) {
+            if m == 1.0 {
+                continue;
             }
-            z
-        });
+            let extra = m - 1.0;
+            edge_entries(
+                s,
+                |r, c, v| step1[slot(&self.step1, r as usize, c as usize)] += v * extra,
+                |r, c, v| {
+                    let k = slot(&self.step2, r as usize, c as usize);
+                    step2[k] += v * extra;
+                    if let Some(z) = step2_complex.as_mut() {
+                        z[k] += v * extra;
+                    }
+                },
+            );
+        }
         values
     }
 
@@ -209,29 +209,33 @@ pub(crate) type Triplets<T> = Vec<(u32, u32, T)>;
 
 /// The upper-triangle triplets `(row, column, value)` of `L1ᴴL1` (the products of each
 /// edge's step-1 row, equation 4) and `L2ᵀL2` (the graph Laplacian of the rows
-/// `ω (z_j − z_i)`, equation 7), each edge's energy times `multipliers[k]` when given.
-fn edge_triplets(stencils: &[Stencil], multipliers: Option<&[f64]>) -> (Triplets<C64>, Triplets<f64>) {
+/// `ω (z_j − z_i)`, equation 7).
+fn edge_triplets(stencils: &[Stencil]) -> (Triplets<C64>, Triplets<f64>) {
     let mut t1 = Vec::with_capacity(10 * stencils.len());
     let mut t2 = Vec::with_capacity(3 * stencils.len());
-    for (k, s) in stencils.iter().enumerate() {
-        let h = s.step1_row();
-        let m = multipliers.map_or(1.0, |m| m[k]);
-        for p in 0..s.len {
-            for q in 0..s.len {
-                let (r, c) = (s.verts[p], s.verts[q]);
-                if r <= c {
-                    let v = h[p].conj() * h[q];
-                    t1.push((r, c, if multipliers.is_some() { v * m } else { v }));
-                }
-            }
-        }
-        let (i, j) = (s.verts[0], s.verts[1]);
-        let w2 = if multipliers.is_some() { s.weight * s.weight * m } else { s.weight * s.weight };
-        t2.push((i, i, w2));
-        t2.push((j, j, w2));
-        t2.push((i.min(j), i.max(j), -w2));
+    for s in stencils {
+        edge_entries(s, |r, c, v| t1.push((r, c, v)), |r, c, v| t2.push((r, c, v)));
     }
     (t1, t2)
+}
+
+/// One edge's upper-triangle entries of `L1ᴴL1` (`step1(row, column, value)`) and of
+/// `L2ᵀL2` (`step2(…)`), at its registered weight.
+fn edge_entries(s: &Stencil, mut step1: impl FnMut(u32, u32, C64), mut step2: impl FnMut(u32, u32, f64)) {
+    let h = s.step1_row();
+    for p in 0..s.len {
+        for q in 0..s.len {
+            let (r, c) = (s.verts[p], s.verts[q]);
+            if r <= c {
+                step1(r, c, h[p].conj() * h[q]);
+            }
+        }
+    }
+    let (i, j) = (s.verts[0], s.verts[1]);
+    let w2 = s.weight * s.weight;
+    step2(i, i, w2);
+    step2(j, j, w2);
+    step2(i.min(j), i.max(j), -w2);
 }
 
 pub(crate) fn symbolic_from<T: Copy + std::ops::AddAssign>(

@@ -2,12 +2,16 @@
 // Chromium (issue 12, "4. The demo"): save two poses, blend them halfway with the slider
 // (the pose drawn must be the library's Blender halfway pose, computed here in Node from
 // the saved poses), record a drag, play it back (its last frame is the recorded end pose),
-// save the puppet as a document and open it again (it plays the same), export a video.
+// save the puppet as a document and open it again (it plays the same), export a video;
+// and a document made in the demo as scripts/demo-document.mjs makes the examples' one
+// (assets/gingerbread.bunraku.json) plays with `Player` in Node.
 
 import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
-import { readFileSync } from "node:fs";
-import { Blender, initSync } from "../../pkg/bunraku.js";
+import { existsSync, readFileSync } from "node:fs";
+import { PNG } from "pngjs";
+import { Blender, initSync, Player } from "../../pkg/bunraku.js";
+import { makeDemoDocument } from "../../scripts/demo-document.mjs";
 import { drag, hook, openDemo, settled, startDemo } from "./_harness.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -163,4 +167,50 @@ test("save two poses and blend them, record a drag and play it, save and open th
 
   assert.deepEqual(errors, []);
   await context.close();
+});
+
+test("a document saved from the demo (scripts/demo-document.mjs, as the examples' one is made) plays with Player in Node", { timeout: TIMEOUT }, async (t) => {
+  const { text, recorded, errors } = await makeDemoDocument(demo);
+  assert.deepEqual(errors, []);
+  const doc = JSON.parse(text);
+  const player = Player.load(text);
+  try {
+    assert.equal(player.mode, "track");
+    assert.equal(player.loop, true);
+    assert.equal(doc.puppet.method, "two-step");
+    assert.equal(player.vertexCount, recorded.length / 2);
+    // The default picture by a URL relative to the document: beside it in assets/.
+    assert.equal(player.picture.url, "gingerbread.png");
+    const picture = new URL(player.picture.url, new URL("../../assets/gingerbread.bunraku.json", import.meta.url));
+    assert.ok(existsSync(picture), `${picture} exists`);
+    const png = PNG.sync.read(readFileSync(picture));
+    assert.deepEqual([png.width, png.height], [player.picture.width, player.picture.height]);
+    // The overlap region on the arm gives the triangles depths.
+    assert.ok(player.triangleDepth.some((d) => d > 0) && player.triangleDepth.some((d) => d === 0), "some triangles in front");
+
+    // Played in Node, the recording ends on the pose the demo showed when it stopped (the
+    // document once more without its loop, where time `duration` is the last sample).
+    const once = Player.load({ ...doc, loop: false });
+    const end = once.positionsAt(once.duration);
+    const rest = once.positionsAt(0);
+    const midway = once.positionsAt(0.4 * once.duration);
+    once.free();
+    let diagonal = 0;
+    for (let i = 0; i < rest.length; i += 2) for (let j = i + 2; j < rest.length; j += 50) diagonal = Math.max(diagonal, Math.hypot(rest[i] - rest[j], rest[i + 1] - rest[j + 1]));
+    const off = maxDistance(Array.from(end), recorded);
+    t.diagnostic(`${doc.track.times.length} samples over ${player.duration.toFixed(2)} s; the end pose in Node is ${off.toExponential(2)} px from the demo's`);
+    assert.ok(off <= 1e-6 * diagonal, `the end of playback in Node is ${off} px from the pose the demo recorded`);
+    assert.ok(maxDistance(Array.from(midway), Array.from(rest)) > 0.1 * diagonal, "the hand moves");
+    // At a given time, the looping document plays the same pose whatever played before.
+    const again = player.positionsAt(0.4 * player.duration);
+    assert.deepEqual(Array.from(again), Array.from(midway));
+
+    // The examples' document was made the same way.
+    const shipped = JSON.parse(readFileSync(new URL("../../assets/gingerbread.bunraku.json", import.meta.url), "utf8"));
+    for (const field of ["format", "version", "picture", "puppet", "loop"]) assert.deepEqual(shipped[field], doc[field], field);
+    assert.deepEqual(shipped.pins.kinds, doc.pins.kinds);
+    assert.equal(shipped.overlap.length, doc.overlap.length);
+  } finally {
+    player.free();
+  }
 });

@@ -1,7 +1,11 @@
-// The npm package as a user meets it: `npm pack` of the repository (pkg/ already built),
-// installed from the tarball into fresh copies of examples/vite and examples/node. The Vite
-// app is type-checked, built and opened in headless Chromium; the Node examples run.
-// Needs the npm registry (vite, typescript, pngjs) and /usr/bin/chromium.
+// The npm package as a user meets it: `npm pack` of the repository (pkg/ already built;
+// dist/, the WebGL2 helper `bunraku/gl`, built here when it is out of date), installed from
+// the tarball into fresh copies of examples/vite and examples/node. The Vite app is
+// type-checked, built and opened in headless Chromium: the drag page, and the playback
+// page playing the document made in the demo (assets/gingerbread.bunraku.json, by
+// scripts/demo-document.mjs), whose frames are compared with the package's `Renderer`
+// drawing the `Player`'s positions in Node. The Node examples run, playing that document
+// too. Needs the npm registry (vite, typescript, pngjs) and /usr/bin/chromium.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync, spawn } from "node:child_process";
@@ -13,8 +17,13 @@ import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 import { CHROMIUM, CHROMIUM_ARGS } from "../browser/_harness.mjs";
 import { PNG } from "pngjs";
+import { initSync, Player, Renderer } from "../../pkg/bunraku.js";
+import { buildGL } from "../../scripts/build-gl.mjs";
 
 const root = fileURLToPath(new URL("../../", import.meta.url));
+initSync({ module: readFileSync(join(root, "pkg", "bunraku_bg.wasm")) });
+/** The document made in the demo page, which both examples play. */
+const DEMO_DOCUMENT = join(root, "assets", "gingerbread.bunraku.json");
 let work;
 let tarball;
 
@@ -51,6 +60,7 @@ const freePort = () =>
   });
 
 before(() => {
+  buildGL({ log: (line) => console.log(`# ${line}`) });
   work = mkdtempSync(join(tmpdir(), "bunraku-examples-"));
   const [packed] = JSON.parse(run("npm", ["pack", "--ignore-scripts", "--json", "--pack-destination", work], root));
   tarball = join(work, packed.filename);
@@ -58,6 +68,8 @@ before(() => {
   assert.deepEqual(files, [
     "LICENSE",
     "README.md",
+    "dist/gl.d.ts",
+    "dist/gl.js",
     "package.json",
     "pkg/bunraku.d.ts",
     "pkg/bunraku.js",
@@ -90,6 +102,16 @@ test("examples/node runs against the installed package", { timeout: 10 * MINUTE 
   assert.equal(played.length, 3, `${played}`);
   const [first, last] = [played[0], played[2]].map((f) => PNG.sync.read(readFileSync(join(animation, f))));
   assert.ok(!first.data.equals(last.data), "the frames differ: the document animates");
+  // The document made in the demo page (its picture by a URL relative to it).
+  const demoFrames = join(work, "demo-animation");
+  const demoOut = run("node", ["animate.mjs", "4", demoFrames, "../../assets/gingerbread.bunraku.json"], dir);
+  const demoDoc = JSON.parse(readFileSync(DEMO_DOCUMENT, "utf8"));
+  assert.match(demoOut, new RegExp(`loaded gingerbread\\.bunraku\\.json: ${demoDoc.mesh.vertices.length / 2} vertices, plays its track for \\d+\\.\\d\\d s \\(loops\\)`));
+  const demoPlayed = readdirSync(demoFrames).filter((f) => f.endsWith(".png")).sort();
+  assert.equal(demoPlayed.length, 4, `${demoPlayed}`);
+  const [d0, d1] = [demoPlayed[0], demoPlayed[1]].map((f) => PNG.sync.read(readFileSync(join(demoFrames, f))));
+  assert.equal(d0.width, demoDoc.picture.width, "drawn at the picture's size");
+  assert.ok(!d0.data.equals(d1.data), "the demo's document animates");
 });
 
 /**
@@ -114,54 +136,195 @@ async function answering(url, child, ms = 30_000) {
   }
 }
 
-test("examples/vite type-checks, builds and runs in Chromium", { timeout: 10 * MINUTE }, async () => {
-  const dir = install("vite");
+/** The canvas `#stage` of `page` as pixels: a PNG screenshot of its box, rounded to whole
+ *  pixels as the compositor places it (an element screenshot takes in the partly covered
+ *  rows of a box at a fractional offset). */
+async function stageShot(page) {
+  const box = await page.locator("#stage").boundingBox();
+  const clip = { x: Math.round(box.x), y: Math.round(box.y), width: Math.round(box.width), height: Math.round(box.height) };
+  return PNG.sync.read(await page.screenshot({ clip }));
+}
+
+/** The share of the pixels of two same-sized RGBA images that differ by more than 48 in
+ *  some channel. */
+function mismatch(a, b) {
+  assert.equal(a.length, b.length, "images of different sizes");
+  let n = 0;
+  for (let i = 0; i < a.length; i += 4) {
+    if (Math.abs(a[i] - b[i]) > 48 || Math.abs(a[i + 1] - b[i + 1]) > 48 || Math.abs(a[i + 2] - b[i + 2]) > 48) n++;
+  }
+  return n / (a.length / 4);
+}
+
+/** Waits until the playback page's status says `state` ("playing", "error"), and returns
+ *  its data attributes. */
+async function playback(page, state = "playing") {
+  const status = page.locator(`#status[data-state="${state}"]`);
+  await status.waitFor({ timeout: 20_000 });
+  return { ...(await status.evaluate((el) => ({ ...el.dataset }))), text: await status.textContent() };
+}
+
+test("examples/vite type-checks, builds and runs in Chromium: the drag page and the playback page", { timeout: 10 * MINUTE }, async (t) => {
+  const dir = install("vite", [["assets", "assets"]]);
   run("npm", ["run", "build"], dir);
   assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
+  const built = readdirSync(join(dir, "dist"));
+  for (const file of ["index.html", "playback.html", "gingerbread.bunraku.json", "gingerbread.png"]) {
+    assert.ok(built.includes(file), `dist/${file} is emitted (${built})`);
+  }
   const port = await freePort();
   const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
   const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
     cwd: dir,
     stdio: ["ignore", "ignore", "inherit"],
   });
+  const origin = `http://127.0.0.1:${port}`;
   let browser;
   try {
-    await answering(`http://127.0.0.1:${port}/`, server);
+    await answering(`${origin}/`, server);
     browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
-    const page = await browser.newPage();
-    const problems = [];
-    page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
-    page.on("pageerror", (e) => problems.push(String(e)));
-    await page.goto(`http://127.0.0.1:${port}/`);
-    const status = page.locator("#status");
-    // The first frames (the injective default may refine on the first few, a cold start
-    // taking longer than its budget), until the puppet has converged at rest.
-    await status.filter({ hasText: /^ok: \d+ vertices, 3 pins, frame \d+$/ }).waitFor({ timeout: 20_000 });
-    const first = (await status.textContent()).match(/frame (\d+)$/)[1];
-    // Drag the first pin (the star's top tip) 60 px to the right: the page updates.
-    const box = await page.locator("#stage").boundingBox();
-    const [x, y] = [240, 250 - 0.9 * 200]; // src/main.ts: the pin at the top tip
-    await page.mouse.move(box.x + x, box.y + y);
-    await page.mouse.down();
-    for (let k = 1; k <= 10; k++) {
-      await page.mouse.move(box.x + x + 6 * k, box.y + y);
-      await page.waitForTimeout(20);
-    }
-    await page.mouse.up();
-    // Until the drag has been drawn and the puppet has caught up with it (the injective
-    // method refines on the frames after a fast drag).
-    await status.filter({ hasText: /frame \d+$/, hasNotText: new RegExp(`frame ${first}$`) }).waitFor({ timeout: 30_000 });
-    // The dragged tip's colour now lies 60 px right of where it was.
-    const shot = PNG.sync.read(await page.locator("#stage").screenshot());
-    const yellow = (px, py) => {
-      const i = 4 * (Math.round(py) * shot.width + Math.round(px));
-      return shot.data[i] > 200 && shot.data[i + 1] > 150 && shot.data[i + 2] < 140;
-    };
-    assert.ok(yellow(x + 60, y + 20), "the tip follows the pin");
-    assert.ok(!yellow(x - 8, y + 20), "the tip left its rest place");
-    assert.deepEqual(problems, []);
+    await t.test("the drag page", () => dragPage(browser, origin));
+    await t.test("the playback page plays the document made in the demo", () => playbackPage(browser, origin, t));
   } finally {
     await browser?.close();
     server.kill();
   }
 });
+
+async function dragPage(browser, origin) {
+  const page = await browser.newPage();
+  const problems = [];
+  page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+  page.on("pageerror", (e) => problems.push(String(e)));
+  await page.goto(`${origin}/`);
+  const status = page.locator("#status");
+  // The first frames (the injective default may refine on the first few, a cold start
+  // taking longer than its budget), until the puppet has converged at rest.
+  await status.filter({ hasText: /^ok: \d+ vertices, 3 pins, frame \d+$/ }).waitFor({ timeout: 20_000 });
+  const first = (await status.textContent()).match(/frame (\d+)$/)[1];
+  // Drag the first pin (the star's top tip) 60 px to the right: the page updates.
+  const box = await page.locator("#stage").boundingBox();
+  const [x, y] = [240, 250 - 0.9 * 200]; // src/main.ts: the pin at the top tip
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) {
+    await page.mouse.move(box.x + x + 6 * k, box.y + y);
+    await page.waitForTimeout(20);
+  }
+  await page.mouse.up();
+  // Until the drag has been drawn and the puppet has caught up with it (the injective
+  // method refines on the frames after a fast drag).
+  await status.filter({ hasText: /frame \d+$/, hasNotText: new RegExp(`frame ${first}$`) }).waitFor({ timeout: 30_000 });
+  // The dragged tip's colour now lies 60 px right of where it was.
+  const shot = PNG.sync.read(await page.locator("#stage").screenshot());
+  const yellow = (px, py) => {
+    const i = 4 * (Math.round(py) * shot.width + Math.round(px));
+    return shot.data[i] > 200 && shot.data[i + 1] > 150 && shot.data[i + 2] < 140;
+  };
+  assert.ok(yellow(x + 60, y + 20), "the tip follows the pin");
+  assert.ok(!yellow(x - 8, y + 20), "the tip left its rest place");
+  assert.deepEqual(problems, []);
+  await page.close();
+}
+
+async function playbackPage(browser, origin, t) {
+  const text = readFileSync(DEMO_DOCUMENT, "utf8");
+  const doc = JSON.parse(text);
+  const player = Player.load(text);
+  const pictureFile = readFileSync(join(root, "assets", doc.picture.url));
+  const picture = PNG.sync.read(pictureFile);
+  const renderer = new Renderer(picture.data, picture.width, picture.height);
+  const BACKGROUND = [0xf6, 0xf3, 0xec, 255]; // playback.html: #stage's background
+  /** The frame at time `at` as the package's Renderer draws the Player's positions in
+   *  Node, `width` × `height` with `transform` (mesh units → canvas pixels). */
+  const expected = (at, width, height, transform, depth = player.triangleDepth) =>
+    renderer.render(player.positionsAt(at), player.triangles, player.uvs, width, height, { transform, background: BACKGROUND, ...(depth ? { depth } : {}) });
+  const context = await browser.newContext({ viewport: { width: 900, height: 800 }, deviceScaleFactor: 1 });
+  const problems = [];
+  context.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+  context.on("weberror", (e) => problems.push(String(e.error())));
+  try {
+    // Playing at the display's rate: time goes on, frames are drawn, and the pixels change.
+    const page = await context.newPage();
+    await page.goto(`${origin}/playback.html`);
+    const first = await playback(page);
+    assert.match(first.text, new RegExp(`^gingerbread\\.bunraku\\.json: ${player.vertexCount} vertices, ${player.duration.toFixed(2)} s \\(loops\\)`));
+    const before = await stageShot(page);
+    const t0 = performance.now();
+    await page.waitForTimeout(1000);
+    const later = await playback(page);
+    const after = await stageShot(page);
+    const seconds = (performance.now() - t0) / 1000;
+    const fps = (Number(later.frame) - Number(first.frame)) / seconds;
+    t.diagnostic(`playback page: ${fps.toFixed(0)} frames a second; ${(100 * mismatch(before.data, after.data)).toFixed(1)}% of the pixels changed in ${seconds.toFixed(2)} s`);
+    assert.ok(Number(later.time) > Number(first.time) + 0.5, `the time goes on: ${first.time} s, then ${later.time} s`);
+    assert.ok(fps >= 10, `${fps.toFixed(1)} frames a second`);
+    assert.ok(mismatch(before.data, after.data) > 0.002, "the picture moves");
+    await page.close();
+
+    // Held at a time when the hand is over the body: the frame drawn is the Player's pose
+    // at that time (the Renderer's frame of it in Node), drawn in the overlap order.
+    const at = 0.4 * player.duration;
+    const held = await context.newPage();
+    await held.goto(`${origin}/playback.html?t=${at}`);
+    const state = await playback(held);
+    assert.equal(Number(state.time), at);
+    const transform = JSON.parse(state.transform);
+    const shot = await stageShot(held);
+    const same = mismatch(shot.data, expected(at, shot.width, shot.height, transform));
+    const other = mismatch(shot.data, expected(0, shot.width, shot.height, transform));
+    const flat = mismatch(shot.data, expected(at, shot.width, shot.height, transform, null));
+    t.diagnostic(`frame at ${at.toFixed(2)} s vs the Renderer in Node: ${(100 * same).toFixed(2)}% of the pixels differ; vs time 0: ${(100 * other).toFixed(2)}%; vs no overlap order: ${(100 * flat).toFixed(2)}%`);
+    assert.ok(same < 0.005, `the frame drawn is the Player's pose at ${at} s: ${(100 * same).toFixed(2)}% of the pixels differ`);
+    assert.ok(other > 0.03, `the pose at ${at} s differs from the rest pose (${(100 * other).toFixed(2)}%)`);
+    assert.ok(flat > 5 * same + 0.002, `the hand is drawn in front (overlap order): ${(100 * flat).toFixed(2)}% vs ${(100 * same).toFixed(2)}%`);
+
+    // A lost GPU context: no frames while it is lost, and the same picture once it is back.
+    await held.evaluate(() => {
+      window.lose = document.querySelector("#stage").getContext("webgl2").getExtension("WEBGL_lose_context");
+      window.lose.loseContext();
+    });
+    await held.waitForTimeout(300);
+    const lost = Number((await playback(held)).frame);
+    await held.waitForTimeout(300);
+    assert.equal(Number((await playback(held)).frame), lost, "no frame is drawn while the context is lost");
+    await held.evaluate(() => window.lose.restoreContext());
+    await held.waitForFunction((n) => Number(document.querySelector("#status").dataset.frame) > n + 2, lost, { timeout: 10_000 });
+    const restored = mismatch((await stageShot(held)).data, shot.data);
+    assert.ok(restored < 0.002, `after the context is restored the frame is drawn again: ${(100 * restored).toFixed(2)}% differ`);
+    await held.close();
+
+    // A user's document, opened with the file input: the same animation, its picture
+    // embedded as a data: URL (as the demo saves the user's own pictures), recoloured blue.
+    const blue = new PNG({ width: picture.width, height: picture.height });
+    for (let i = 0; i < picture.data.length; i += 4) {
+      const [r, g, b, a] = picture.data.subarray(i, i + 4);
+      blue.data.set([b, g, r, a], i);
+    }
+    const embedded = { ...doc, picture: { ...doc.picture, url: `data:image/png;base64,${PNG.sync.write(blue).toString("base64")}` } };
+    const user = await context.newPage();
+    await user.goto(`${origin}/playback.html?t=${at}`);
+    await playback(user);
+    await user.setInputFiles("#open-doc", { name: "blue.bunraku.json", mimeType: "application/json", buffer: Buffer.from(JSON.stringify(embedded)) });
+    await user.locator("#status", { hasText: /^blue\.bunraku\.json: / }).waitFor({ timeout: 20_000 });
+    await user.waitForFunction(() => document.querySelector("#status").dataset.state === "playing");
+    const blueShot = await stageShot(user);
+    const swapped = expected(at, blueShot.width, blueShot.height, transform);
+    for (let i = 0; i < swapped.length; i += 4) [swapped[i], swapped[i + 2]] = [swapped[i + 2], swapped[i]];
+    const blueOff = mismatch(blueShot.data, swapped);
+    t.diagnostic(`the user's document (embedded picture): ${(100 * blueOff).toFixed(2)}% of the pixels differ from the Renderer's`);
+    assert.ok(blueOff < 0.005, `the user's document plays with its embedded picture: ${(100 * blueOff).toFixed(2)}% differ`);
+
+    // A document the player refuses: the page says why.
+    await user.setInputFiles("#open-doc", { name: "future.bunraku.json", mimeType: "application/json", buffer: Buffer.from(JSON.stringify({ ...doc, version: 2 })) });
+    const refused = await playback(user, "error");
+    assert.match(refused.text, /^could not play future\.bunraku\.json: .*version/);
+    await user.close();
+    // The refused document's error is the page's own report, not a console error.
+    assert.deepEqual(problems, []);
+  } finally {
+    await context.close();
+    renderer.free();
+    player.free();
+  }
+}

@@ -1,8 +1,9 @@
 // Type-checks every ```js and ```ts snippet of README.md with `tsc --strict` against the
-// built declarations (pkg/bunraku.d.ts), so that the documentation and the types cannot
+// built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts for `bunraku/gl`, built here
+// when it is out of date), so that the documentation and the types cannot
 // drift apart; tests/types/api.ts (checks of the declarations themselves) is compiled with
 // them. Each snippet becomes a module of its own in a temporary folder, importing
-// "bunraku" (mapped to pkg/ by `paths`), beside an ambient prelude that declares the free
+// "bunraku" and "bunraku/gl" (mapped to pkg/ and dist/ by `paths`), beside an ambient prelude that declares the free
 // names the snippets use (tests/types/readme-prelude.d.ts); a snippet's own declarations
 // shadow them. Shell commands and other text are not js/ts blocks and are not checked.
 import { test } from "node:test";
@@ -13,8 +14,10 @@ import { createRequire } from "node:module";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { fileURLToPath } from "node:url";
+import { buildGL } from "../../scripts/build-gl.mjs";
 
 const root = fileURLToPath(new URL("../../", import.meta.url));
+buildGL({ log: () => {} });
 const readme = readFileSync(join(root, "README.md"), "utf8");
 const tsc = createRequire(import.meta.url).resolve("typescript/bin/tsc");
 
@@ -58,7 +61,7 @@ writeFileSync(
       moduleDetection: "force",
       lib: ["ES2022", "DOM", "ESNext.Disposable"],
       types: [],
-      paths: { bunraku: [join(root, "pkg/bunraku.d.ts")] },
+      paths: { bunraku: [join(root, "pkg/bunraku.d.ts")], "bunraku/gl": [join(root, "dist/gl.d.ts")] },
     },
     files: [join(root, "tests/types/readme-prelude.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
   }),
@@ -100,12 +103,14 @@ test("tests/types/api.ts type-checks (the declarations' own checks)", () => {
   assert.equal(mine.length, 0, "\n" + mine.map((e) => `tests/types/api.ts:${e.line}:${e.column}: ${e.text}`).join("\n"));
 });
 
-test("no `any` in a public signature of bunraku.d.ts", () => {
-  const dts = readFileSync(join(root, "pkg/bunraku.d.ts"), "utf8");
-  // InitOutput lists the raw wasm exports (wasm-bindgen's, not the API); comments may say "any".
-  const api = dts.replace(/export interface InitOutput \{[^}]*\}/, "").replace(/\/\*[\s\S]*?\*\//g, "");
-  const lines = api.split("\n").filter((l) => /\bany\b/.test(l));
-  assert.deepEqual(lines, []);
+test("no `any` in a public signature of bunraku.d.ts and gl.d.ts", () => {
+  for (const file of ["pkg/bunraku.d.ts", "dist/gl.d.ts"]) {
+    const dts = readFileSync(join(root, file), "utf8");
+    // InitOutput lists the raw wasm exports (wasm-bindgen's, not the API); comments may say "any".
+    const api = dts.replace(/export interface InitOutput \{[^}]*\}/, "").replace(/\/\*[\s\S]*?\*\//g, "");
+    const lines = api.split("\n").filter((l) => /\bany\b/.test(l));
+    assert.deepEqual(lines, [], file);
+  }
 });
 
 test("README.md lists every error code of the declarations", () => {

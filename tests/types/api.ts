@@ -1,4 +1,5 @@
-// Type-level checks of the built declarations (pkg/bunraku.d.ts), compiled with
+// Type-level checks of the built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts of the
+// WebGL2 helper `bunraku/gl`), compiled with
 // `tsc --strict` by tests/node/readme-types.test.mjs together with the README's snippets:
 // optional parameters are optional, options and results have names and no `any`, bulk data
 // are typed arrays, and errors have codes. A line marked @ts-expect-error must not compile.
@@ -22,6 +23,16 @@ import {
   type RenderOptions,
   type Surface,
 } from "bunraku";
+import {
+  MeshPainter,
+  PuppetView,
+  PuppetViewError,
+  fitTransform,
+  type Affine,
+  type PictureSource,
+  type PuppetViewErrorCode,
+  type PuppetViewOptions,
+} from "bunraku/gl";
 
 /** `true` when `T` and `U` are the same type (`any` equals nothing but `any`). */
 type Equal<T, U> = (<G>() => G extends T ? 1 : 2) extends <G>() => G extends U ? 1 : 2 ? true : false;
@@ -89,4 +100,36 @@ try {
   // @ts-expect-error: not a code
   if (code === "handle_outside") throw error;
   if (error instanceof Error && code === "handle-outside") console.warn(error.message, error.index);
+}
+
+// bunraku/gl: the pictures it takes, typed arrays, optional options, named results.
+declare const canvas: HTMLCanvasElement;
+declare const bitmap: ImageBitmap;
+declare const image: HTMLImageElement;
+declare const uvs: Float32Array;
+const view = new PuppetView(canvas, bitmap, t, uvs);
+new PuppetView(canvas, new ImageData(2, 2), t, uvs, { depth: null, fit: v, fill: 0.9, pixelRatio: 1, onContextLost: (lost: boolean) => void lost });
+new PuppetView(canvas, image, t, uvs, { transform: [1, 0, 0, 1, 0, 0] });
+check<Equal<Parameters<PuppetView["draw"]>[0], Float64Array | Float32Array>>();
+check<Equal<ReturnType<PuppetView["draw"]>, boolean>>();
+check<Equal<typeof view.transform, Affine>>();
+check<Equal<Parameters<MeshPainter["draw"]>[1], Affine>>();
+check<Equal<ConstructorParameters<typeof PuppetView>[4], PuppetViewOptions | undefined>>();
+check<Equal<ConstructorParameters<typeof PuppetView>[1], PictureSource>>();
+check<Equal<ReturnType<typeof fitTransform>, Affine | null>>();
+// @ts-expect-error: positions are a typed array
+view.draw([0, 0]);
+// @ts-expect-error: a transform is six numbers
+view.setTransform([1, 0, 0, 1]);
+// @ts-expect-error: a misspelt option
+new PuppetView(canvas, bitmap, t, uvs, { fil: 1 });
+try {
+  view.draw(v);
+} catch (e) {
+  if (e instanceof PuppetViewError) {
+    const code: PuppetViewErrorCode = e.code;
+    // @ts-expect-error: not a code
+    if (code === "no_webgl2") throw e;
+    console.warn(e.message);
+  }
 }

@@ -6,20 +6,8 @@ import type { Affine } from "./view.js";
 import { createGLRenderer } from "./gl.js";
 import { createCanvasRenderer } from "./fallback.js";
 
-/** The triangles of `triangles` in drawing order for `depth`: sorted by depth, ascending,
- *  ties in mesh order (a stable sort: nothing flickers) — the `Renderer`'s own order. */
-export function depthOrder(triangles: Uint32Array, depth: Float32Array): Uint32Array {
-  const m = triangles.length / 3;
-  const order = Array.from({ length: m }, (_, t) => t).sort((a, b) => depth[a] - depth[b] || a - b);
-  const sorted = new Uint32Array(triangles.length);
-  order.forEach((t, k) => sorted.set(triangles.subarray(3 * t, 3 * t + 3), 3 * k));
-  return sorted;
-}
-
-/** Whether `depth` orders anything: some triangle's depth differs from another's. */
-export function hasDepth(depth: Float32Array | null): depth is Float32Array {
-  return depth !== null && depth.some((d) => d !== depth[0]);
-}
+/** Whether `depth` orders anything (the package's WebGL2 helper, js/gl.ts, decides it). */
+export { hasDepth } from "../../js/gl.js";
 
 export interface PictureRenderer {
   /** "WebGL2" or "Canvas 2D", shown on the page. */

@@ -1,9 +1,11 @@
 // The view: how picture pixels map to the stage (CSS pixels, origin at the canvas's
 // top-left corner) — a uniform scale and an offset that centre the shape.
 
-/** A 2D affine map `[a, b, c, d, e, f]`: `(x, y) ↦ (a·x + c·y + e, b·x + d·y + f)`, as in
- *  `CanvasRenderingContext2D.setTransform`. */
-export type Affine = [number, number, number, number, number, number];
+import { fitTransform, type Affine } from "../../js/gl.js";
+
+/** A 2D affine map `[a, b, c, d, e, f]`, as in `CanvasRenderingContext2D.setTransform`
+ *  (the package's WebGL2 helper, js/gl.ts, defines it). */
+export type { Affine };
 
 export class View {
   /** CSS pixels per picture pixel. */
@@ -15,17 +17,9 @@ export class View {
   /** Centres the box of `points` (`[x0, y0, …]`) on a stage of `width` × `height` CSS
    *  pixels, scaled to cover `fill` of it. */
   fit(points: Float64Array, width: number, height: number, fill = 0.86): void {
-    let minX = Infinity, minY = Infinity, maxX = -Infinity, maxY = -Infinity;
-    for (let k = 0; k < points.length; k += 2) {
-      minX = Math.min(minX, points[k]);
-      maxX = Math.max(maxX, points[k]);
-      minY = Math.min(minY, points[k + 1]);
-      maxY = Math.max(maxY, points[k + 1]);
-    }
-    if (!(maxX > minX && maxY > minY) || width <= 0 || height <= 0) return;
-    this.scale = Math.min((fill * width) / (maxX - minX), (fill * height) / (maxY - minY));
-    this.x = width / 2 - (this.scale * (minX + maxX)) / 2;
-    this.y = height / 2 - (this.scale * (minY + maxY)) / 2;
+    const fitted = fitTransform(points, width, height, fill);
+    if (!fitted) return;
+    [this.scale, , , , this.x, this.y] = fitted;
   }
 
   /** Picture pixels → stage CSS pixels. */

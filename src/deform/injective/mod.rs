@@ -41,7 +41,7 @@ use super::components::Motion;
 use super::pin_set::PinSet;
 use super::pins::{PinRow, Rotation};
 use super::step2::Step2;
-use super::system::System;
+use super::system::{slot, System};
 use crate::mesh::Mesh;
 use crate::solver::Pair;
 
@@ -160,6 +160,43 @@ pub(crate) struct Injective {
     converged: bool,
 }
 
+/// Adds the rotation pins' held-triangle terms to step 2's values `step2` (upper triangle,
+/// in `system.step2`'s pattern), for the injective method's preconditioner: the energy
+/// `w² a_t |F_t − R|²` of a held triangle has the Hessian `2 w² a_t GᵀG` per coordinate
+/// (`G` the triangle's 2×3 gradient, `F_t = X G`), which step 2's `2 A2ᵀA2` lacks. Without
+/// it, the conjugate gradients take twice the steps with bend and advanced pins (measured at
+/// 3k and 30k vertices, `cargo bench --bench arap -- --pins`); a triangle's vertices are
+/// coupled by its edges already, so the pattern is the same. Triangles of components that
+/// are not solved are skipped (their rows are identity rows).
+pub(crate) fn add_held_terms(system: &System, mesh: &Mesh, pins: &PinSet, w: f64, step2: &mut [f64]) {
+    let rest = mesh.vertices();
+    for r in &pins.rotations {
+        for &t in &r.triangles {
+            let tri = mesh.triangles()[t as usize];
+            if pins.motion[tri[0] as usize] != Motion::Solve {
+                continue;
+            }
+            let [a, b, c] = tri.map(|v| rest[v as usize]);
+            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+            let det = e1[0] * e2[1] - e1[1] * e2[0];
+            // The columns `j` of [e1 e2]⁻¹: d F_j / d (x_b, x_c); d F_j / d x_a is minus their sum.
+            let columns = [[e2[1] / det, -e1[1] / det], [-e2[0] / det, e1[0] / det]];
+            let weight = w * w * 0.5 * det;
+            for [db, dc] in columns {
+                let g = [-(db + dc), db, dc];
+                for p in 0..3 {
+                    for q in 0..3 {
+                        let (row, col) = (tri[p] as usize, tri[q] as usize);
+                        if row <= col {
+                            step2[slot(&system.step2, row, col)] += weight * g[p] * g[q];
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 impl Injective {
     /// The method on `mesh` for the pins `rows` (weight `w`), preconditioned by `step2`
     /// (the factor of `A2ᵀA2` for these pins), starting from `start` (which must be
@@ -260,11 +297,28 @@ impl Injective {
         self.x.iter().map(|p| p.0)
     }
 
-    /// Back to `rest`, which is injective.
+    /// Back to `rest`, which is injective, with the forcing term's floor as compiled: the
+    /// next updates do what they did after compilation.
     pub(crate) fn reset(&mut self, rest: &[[f64; 2]]) {
-        for (x, r) in self.x.iter_mut().zip(rest) {
+        self.restore(rest, FLOOR_RANGE.0);
+    }
+
+    /// The forcing term's floor: with the positions, all the state that carries from one
+    /// update to the next (see [`Injective::restore`]).
+    pub(crate) fn floor(&self) -> f64 {
+        self.floor
+    }
+
+    /// Continues from `positions` (injective, as [`Injective::positions`] gave them) and
+    /// `floor` (as [`Injective::floor`] gave it): the next update computes exactly what it
+    /// would have computed after the update that left that state, whatever came between.
+    /// (The energy, its gradient and the targets are recomputed by the next update; the
+    /// conjugate gradients start from zero every time.)
+    pub(crate) fn restore(&mut self, positions: &[[f64; 2]], floor: f64) {
+        for (x, r) in self.x.iter_mut().zip(positions) {
             x.0 = *r;
         }
+        self.floor = floor.clamp(FLOOR_RANGE.0, FLOOR_RANGE.1);
         self.fresh = false;
         self.converged = false;
     }

@@ -1,0 +1,68 @@
+// Builds the package's WebGL2 helper, `bunraku/gl`: js/gl.ts compiled by tsc (strict, the
+// settings of js/tsconfig.json) into dist/gl.js and its declarations dist/gl.d.ts, which
+// package.json's "exports" and "files" name. Skipped when dist/ is newer than its inputs
+// (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
+// scripts/test.sh run it; the tests that import dist/ call `buildGL()` themselves, so
+// that they also run on their own.
+//
+// The files are compiled into a fresh folder and renamed into dist/ one by one, so that
+// two builds at once (node --test runs test files in parallel) never leave a half-written
+// file for the other to read.
+//
+//   node scripts/build-gl.mjs [--force]
+
+import { spawnSync } from "node:child_process";
+import { existsSync, mkdirSync, mkdtempSync, renameSync, rmSync, statSync, writeFileSync } from "node:fs";
+import { createRequire } from "node:module";
+import { join, relative } from "node:path";
+import { fileURLToPath } from "node:url";
+import { performance } from "node:perf_hooks";
+
+const root = fileURLToPath(new URL("..", import.meta.url));
+/** Where the helper is built. */
+export const GL_DIST = join(root, "dist");
+/** What the build writes into it (besides its stamp). */
+export const GL_FILES = ["gl.js", "gl.d.ts"];
+const INPUTS = [join(root, "js", "gl.ts"), join(root, "js", "tsconfig.json"), fileURLToPath(import.meta.url), join(root, "package-lock.json")];
+const STAMP = join(GL_DIST, ".built-gl"); // written last, after a whole successful build
+
+function staleBecause() {
+  if (!existsSync(STAMP)) return "no build yet";
+  for (const file of GL_FILES) if (!existsSync(join(GL_DIST, file))) return `dist/${file} is missing`;
+  const built = statSync(STAMP).mtimeMs;
+  for (const file of INPUTS) if (statSync(file).mtimeMs > built) return `${relative(root, file)} changed`;
+  return null;
+}
+
+/** Compiles js/gl.ts into dist/ when it is out of date (always with `force`). Throws when
+ *  tsc reports an error. */
+export function buildGL({ force = false, log = (line) => console.log(`[build-gl] ${line}`) } = {}) {
+  const reason = force ? "--force" : staleBecause();
+  if (!reason) {
+    log("dist/gl.js and dist/gl.d.ts are up to date; skipping the build");
+    return;
+  }
+  const t0 = performance.now();
+  mkdirSync(GL_DIST, { recursive: true });
+  const out = mkdtempSync(join(GL_DIST, ".tmp-"));
+  try {
+    const tsc = createRequire(import.meta.url).resolve("typescript/bin/tsc");
+    const run = spawnSync(process.execPath, [tsc, "-p", join(root, "js", "tsconfig.json"), "--outDir", out, "--pretty", "false"], { encoding: "utf8" });
+    if (run.status !== 0) throw new Error(`tsc -p js/tsconfig.json failed:\n${run.stdout}${run.stderr}`);
+    for (const file of GL_FILES) renameSync(join(out, file), join(GL_DIST, file));
+  } finally {
+    rmSync(out, { recursive: true, force: true });
+  }
+  writeFileSync(STAMP, "");
+  const sizes = GL_FILES.map((f) => `${f} ${(statSync(join(GL_DIST, f)).size / 1024).toFixed(1)} KB`).join(", ");
+  log(`built dist/ (${reason}): ${sizes} in ${(performance.now() - t0).toFixed(0)} ms`);
+}
+
+if (process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1]) {
+  try {
+    buildGL({ force: process.argv.includes("--force") });
+  } catch (e) {
+    console.error(`[build-gl] ${e.message}`);
+    process.exit(1);
+  }
+}
