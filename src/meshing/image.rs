@@ -685,6 +685,7 @@ fn scan_row(
 // Loops
 
 /// Shoelace area: positive for counter-clockwise loops (in the coordinates as numbers).
+#[inline(never)]
 fn area(l: &[[f64; 2]]) -> f64 {
     let n = l.len();
     let mut s = 0.0;

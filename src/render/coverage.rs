@@ -25,6 +25,7 @@ impl Region {
     }
 
     /// The region around the box `lo..hi` (output pixels; empty when `lo > hi`).
+    #[inline(never)]
     pub(super) fn of_box(lo: [f64; 2], hi: [f64; 2], width: usize, height: usize) -> Region {
         if lo[0] > hi[0] || lo[1] > hi[1] {
             return Region { x0: 0, x1: 0, y0: 0, y1: 0 };

@@ -259,6 +259,7 @@ fn per_triangle(what: &'static str, values: &[f64], triangles: usize) -> Result<
 }
 
 /// Finite points that the transform keeps within ±[`MAX_PIXEL_COORDINATE`](super::MAX_PIXEL_COORDINATE).
+#[inline(never)]
 fn check_points(what: &'static str, points: &[[f64; 2]], transform: &[f64; 6]) -> Result<()> {
     crate::error::check_finite(what, points)?;
     for (index, &p) in points.iter().enumerate() {

@@ -52,6 +52,7 @@ impl Target<'_> {
     /// bounds the polygon on the centre's right; on a row through a vertex, the edges below
     /// it count: so neighbours sharing an edge never both take a pixel and never both miss
     /// one.
+    #[inline(never)]
     pub(super) fn fill(&mut self, polygon: &[[f64; 2]], map: &TextureMap, texture: &Texture) {
         let n = polygon.len().min(4);
         // Each edge from its upper end (smaller y; then smaller x) to its lower end, so that

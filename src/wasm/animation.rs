@@ -387,6 +387,7 @@ impl JsPlayer {
         Ok(())
     }
 
+    #[inline(never)]
     fn solve(&mut self, t: &JsValue) -> Result<(), Thrown> {
         let t = t.as_f64().ok_or_else(|| bad_type("t", "a number", t))?;
         Ok(self.player.positions_into(t, &mut self.out)?)
@@ -478,6 +479,7 @@ impl JsPlayer {
 }
 
 /// A document error from the binding.
+#[inline(never)]
 fn bad(field: &str, reason: String) -> Thrown {
     Error::BadDocument { fault: DocumentFault::Structure, field: field.into(), value: None, reason }.into()
 }
@@ -521,6 +523,7 @@ impl<'a> Fields<'a> {
         Ok(fields)
     }
 
+    #[inline(never)]
     fn at(&self, key: &str) -> String {
         if self.path.is_empty() {
             key.into()
@@ -534,6 +537,7 @@ impl<'a> Fields<'a> {
         (!v.is_undefined() && !v.is_null()).then_some(v)
     }
 
+    #[inline(never)]
     fn wrong(&self, key: &str, expected: &str, v: &JsValue) -> Thrown {
         bad(&self.at(key), format!("expected {expected}, got {}", describe(v)))
     }
@@ -542,6 +546,7 @@ impl<'a> Fields<'a> {
         value?.ok_or_else(|| bad(&self.at(key), "is missing".into()))
     }
 
+    #[inline(never)]
     fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
         self.get(key).map(|v| v.as_f64().ok_or_else(|| self.wrong(key, "a number", &v))).transpose()
     }
@@ -555,6 +560,7 @@ impl<'a> Fields<'a> {
         }
     }
 
+    #[inline(never)]
     fn string(&self, key: &str) -> Result<Option<String>, Thrown> {
         self.get(key).map(|v| v.as_string().ok_or_else(|| self.wrong(key, "a string", &v))).transpose()
     }
@@ -563,6 +569,7 @@ impl<'a> Fields<'a> {
         self.get(key).map(|v| v.as_bool().ok_or_else(|| self.wrong(key, "a boolean", &v))).transpose()
     }
 
+    #[inline(never)]
     fn array(&self, key: &str) -> Result<Option<Array>, Thrown> {
         match self.get(key) {
             Some(v) if Array::is_array(&v) => Ok(Some(v.unchecked_into())),

@@ -105,6 +105,7 @@ pub(crate) fn typed<'v, A: TypedArray>(argument: &str, value: &'v JsValue) -> Re
 /// Copies `array`, `[x0, y0, x1, y1, …]` for `N = 2`, into `out` resized to
 /// `array.length / N` items (allocating only when it grows: the renderer reuses its
 /// buffers every frame). A length that is not a multiple of `N` is a `bad-length` error.
+#[inline(never)]
 pub(crate) fn read_items<A: TypedArray, const N: usize>(
     what: &'static str,
     array: &A,
@@ -120,6 +121,7 @@ pub(crate) fn read_items<A: TypedArray, const N: usize>(
 }
 
 /// [`read_items`] into a new vector (the inputs of one-off calls).
+#[inline(never)]
 pub(crate) fn items<A: TypedArray, const N: usize>(
     what: &'static str,
     value: &JsValue,
@@ -167,6 +169,7 @@ pub(crate) fn string(argument: &str, value: &JsValue) -> Result<String, Thrown> 
 }
 
 /// Sets `key` on a fresh plain object (one the binding just made, so this cannot fail).
+#[inline(never)]
 pub(crate) fn set(object: &js_sys::Object, key: &str, value: &JsValue) {
     let _ = js_sys::Reflect::set(object, &JsValue::from_str(key), value);
 }
