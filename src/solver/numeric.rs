@@ -142,9 +142,7 @@ pub(super) fn factorize<T: Value>(symbolic: &Symbolic, values: &[T]) -> Result<V
                 for k in j0..j {
                     let f = panel[k * ld + j].conj();
                     let (left, right) = panel.split_at_mut(j * ld);
-                    for (x, &y) in right[j..ld].iter_mut().zip(&left[k * ld + j..k * ld + ld]) {
-                        *x -= y * f;
-                    }
+                    T::sub_scaled(&mut right[j..ld], &left[k * ld + j..k * ld + ld], f);
                 }
                 let d = panel[j * ld + j].re();
                 if !(d > 0.0 && d.is_finite()) {
@@ -186,16 +184,17 @@ pub(super) fn factorize<T: Value>(symbolic: &Symbolic, values: &[T]) -> Result<V
                     target.ncols + q as u32
                 };
             }
-            let m = p - b0;
             let target_ld = (target.ncols + target.row_len) as usize;
             for c0 in (b0..b1).step_by(BLOCK) {
-                let n = BLOCK.min(b1 - c0);
-                Product { packed: packed.view(), ra: c + b0, m, rb: c + c0, n, depth: c }.run(&mut update);
+                // The lower part only: rows from c0 on (the rows above land in the upper
+                // triangle of the target's diagonal block, which is not stored).
+                let (n, m) = (BLOCK.min(b1 - c0), p - c0);
+                Product { packed: packed.view(), ra: c + c0, m, rb: c + c0, n, depth: c }.run(&mut update);
+                let relative = &relative[c0 - b0..];
                 for jj in 0..n {
                     let column = (rows[c0 + jj] - target.start) as usize;
                     let base = target.value_start + column * target_ld - (sn.value_start + ld * c);
-                    let first = c0 - b0 + jj;
-                    for (ii, &u) in update[jj * m..(jj + 1) * m].iter().enumerate().skip(first) {
+                    for (ii, &u) in update[jj * m..(jj + 1) * m].iter().enumerate().skip(jj) {
                         tail[base + relative[ii] as usize] -= u;
                     }
                 }
@@ -227,6 +226,13 @@ pub trait Value: Copy + Default + Mul<Output = Self> + AddAssign + SubAssign {
     /// [`Product::run`] in wasm.
     #[cfg(target_arch = "wasm32")]
     fn simd128(product: Product<'_, Self>, out: &mut [Self]);
+    /// `x[i] -= y[i] · f` (the column updates inside a panel block).
+    #[inline(always)]
+    fn sub_scaled(x: &mut [Self], y: &[Self], f: Self) {
+        for (x, &y) in x.iter_mut().zip(y) {
+            *x -= y * f;
+        }
+    }
 }
 
 impl Value for Complex64 {
@@ -260,6 +266,11 @@ impl Value for Complex64 {
     #[cfg(target_arch = "wasm32")]
     fn simd128(product: Product<'_, Self>, out: &mut [Self]) {
         complex_simd128(product, out)
+    }
+    #[cfg(target_arch = "wasm32")]
+    #[inline(always)]
+    fn sub_scaled(x: &mut [Self], y: &[Self], f: Self) {
+        complex_sub_scaled(x, y, f)
     }
 }
 
@@ -462,6 +473,27 @@ fn complex_simd128(product: Product<'_, Complex64>, out: &mut [Complex64]) {
                     out[col * m + r - ra] = Complex64::new(re[lane], im[lane]);
                 }
             }
+        }
+    }
+}
+
+/// [`Value::sub_scaled`] for complex entries, one `f64x2` per entry: `y · f = f.re · (y.re,
+/// y.im) + (−f.im, f.im) · (y.im, y.re)`, the same products and sums as `num_complex`'s
+/// multiply (so the same bits), without its scalar shuffling.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn complex_sub_scaled(x: &mut [Complex64], y: &[Complex64], f: Complex64) {
+    use core::arch::wasm32::*;
+    let (fr, fi) = (f64x2_splat(f.re), f64x2(-f.im, f.im));
+    for (x, y) in x.iter_mut().zip(y) {
+        // SAFETY: `Complex64` is `repr(C)` `{ re, im }`: 16 bytes, read and written whole
+        // (wasm loads and stores need no alignment).
+        unsafe {
+            let yv = v128_load(y as *const Complex64 as *const v128);
+            let swapped = i64x2_shuffle::<1, 0>(yv, yv);
+            let product = f64x2_add(f64x2_mul(yv, fr), f64x2_mul(swapped, fi));
+            let at = x as *mut Complex64 as *mut v128;
+            v128_store(at, f64x2_sub(v128_load(at), product));
         }
     }
 }
