@@ -55,6 +55,34 @@ mod imp {
         pub(crate) fn neg(self) -> F2 {
             F2(f64x2_neg(self.0))
         }
+        /// `[self₀, o₀]` (the first lanes of both).
+        #[inline(always)]
+        pub(crate) fn zip_low(self, o: F2) -> F2 {
+            F2(i64x2_shuffle::<0, 2>(self.0, o.0))
+        }
+        /// `[self₁, o₁]` (the second lanes of both).
+        #[inline(always)]
+        pub(crate) fn zip_high(self, o: F2) -> F2 {
+            F2(i64x2_shuffle::<1, 3>(self.0, o.0))
+        }
+        /// `*at += self`, lane by lane.
+        #[inline(always)]
+        pub(crate) fn add_to(self, at: &mut [f64; 2]) {
+            // SAFETY: `at` is 16 writable bytes (wasm loads and stores need no alignment).
+            unsafe {
+                let p = at.as_mut_ptr() as *mut v128;
+                v128_store(p, f64x2_add(v128_load(p), self.0));
+            }
+        }
+        /// `*at -= self`, lane by lane.
+        #[inline(always)]
+        pub(crate) fn sub_from(self, at: &mut [f64; 2]) {
+            // SAFETY: as in `add_to`.
+            unsafe {
+                let p = at.as_mut_ptr() as *mut v128;
+                v128_store(p, f64x2_sub(v128_load(p), self.0));
+            }
+        }
         /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
         /// field written directly.
         #[inline(always)]
@@ -115,6 +143,28 @@ mod imp {
         #[inline(always)]
         pub(crate) fn neg(self) -> F2 {
             F2([-self.0[0], -self.0[1]])
+        }
+        /// `[self₀, o₀]` (the first lanes of both).
+        #[inline(always)]
+        pub(crate) fn zip_low(self, o: F2) -> F2 {
+            F2([self.0[0], o.0[0]])
+        }
+        /// `[self₁, o₁]` (the second lanes of both).
+        #[inline(always)]
+        pub(crate) fn zip_high(self, o: F2) -> F2 {
+            F2([self.0[1], o.0[1]])
+        }
+        /// `*at += self`, lane by lane.
+        #[inline(always)]
+        pub(crate) fn add_to(self, at: &mut [f64; 2]) {
+            at[0] += self.0[0];
+            at[1] += self.0[1];
+        }
+        /// `*at -= self`, lane by lane.
+        #[inline(always)]
+        pub(crate) fn sub_from(self, at: &mut [f64; 2]) {
+            at[0] -= self.0[0];
+            at[1] -= self.0[1];
         }
         /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
         /// field written directly.

@@ -8,7 +8,7 @@
 
 use super::elementary::{exp, sin_cos};
 use super::quad::{Lanes, F4};
-use super::stitch::{add, Stitch};
+use super::stitch::Stitch;
 use super::store::Store;
 use crate::solver::Pair;
 
@@ -139,13 +139,18 @@ fn finish(stitch: &Stitch, q: usize, sum: [F4; 4], rhs: &mut [Pair], stretch: Op
     let g = &stitch.gradients[q];
     let (g1x, g1y) = (F4::load(&g[0..4]), F4::load(&g[4..8]));
     let (g2x, g2y) = (F4::load(&g[8..12]), F4::load(&g[12..16]));
-    let (u1x, u1y) = ((c00 * g1x + c01 * g1y).lanes(), (c10 * g1x + c11 * g1y).lanes());
-    let (u2x, u2y) = ((c00 * g2x + c01 * g2y).lanes(), (c10 * g2x + c11 * g2y).lanes());
-    for (lane, tri) in stitch.triangles[4 * q..4 * q + 4].iter().enumerate() {
-        let (u1, u2) = ([u1x[lane], u1y[lane]], [u2x[lane], u2y[lane]]);
-        add(&mut rhs[tri[1] as usize], u1, 1.0);
-        add(&mut rhs[tri[2] as usize], u2, 1.0);
-        add(&mut rhs[tri[0] as usize], [u1[0] + u2[0], u1[1] + u2[1]], -1.0);
+    let [u1x, u1y] = [c00 * g1x + c01 * g1y, c10 * g1x + c11 * g1y].map(F4::halves);
+    let [u2x, u2y] = [c00 * g2x + c01 * g2y, c10 * g2x + c11 * g2y].map(F4::halves);
+    // Each triangle's `(x, y)` parts as one pair of lanes, added to its corners' pairs.
+    let triangles = &stitch.triangles[4 * q..4 * q + 4];
+    for h in 0..2 {
+        let (ax, ay, bx, by) = (u1x[h], u1y[h], u2x[h], u2y[h]);
+        let corners = [(ax.zip_low(ay), bx.zip_low(by)), (ax.zip_high(ay), bx.zip_high(by))];
+        for ((u1, u2), tri) in corners.into_iter().zip(&triangles[2 * h..2 * h + 2]) {
+            u1.add_to(&mut rhs[tri[1] as usize].0);
+            u2.add_to(&mut rhs[tri[2] as usize].0);
+            (u1 + u2).sub_from(&mut rhs[tri[0] as usize].0);
+        }
     }
     if let Some(out) = stretch {
         let (e11, e12, e22) = (e11.lanes(), e12.lanes(), e22.lanes());
