@@ -63,6 +63,26 @@ pub(crate) fn fit_rotations(edges: &[EdgeFit], z1: &[C64], out: &mut [C64]) {
     }
 }
 
+/// [`add_rotated_edges`] with the rotations of the edges in `held` (edge, by edge index,
+/// each once) replaced by `rotations` (one per entry of `held`): rotation pins without a
+/// scale and without starch, in one pass over the edges.
+pub(crate) fn add_fitted_or_held_edges(
+    edges: &[EdgeFit],
+    z1: &[C64],
+    held: &[(u32, usize)],
+    rotations: &[C64],
+    xy: &mut [Pair],
+) {
+    let mut next = held.iter().map(|&(k, _)| k as usize).zip(rotations).peekable();
+    for (k, s) in edges.iter().enumerate() {
+        let r = match next.next_if(|&(h, _)| h == k) {
+            Some((_, &r)) => r,
+            None => rotation(s, z1),
+        };
+        add_rotated_edge(s, r, xy);
+    }
+}
+
 /// Adds each edge's rest edge turned and scaled by its similarity `similarities[k]` and
 /// weighed by its energy multiplier, `m_k ω² S_k e_k`, to step 2's right-hand side.
 pub(crate) fn add_similar_edges(
@@ -73,5 +93,43 @@ pub(crate) fn add_similar_edges(
 ) {
     for ((s, &r), &m) in edges.iter().zip(similarities).zip(multipliers) {
         add_rotated_edge(s, r * m, xy);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-pass update for rotation pins gives the very bits of the general pass
+    /// (fitted rotations, the held ones written over them, unit multipliers).
+    #[test]
+    fn one_pass_matches_the_general_pass_bit_for_bit() {
+        let n = 7u32;
+        let z: Vec<C64> = (0..n).map(|k| C64::new((k as f64 * 1.3).sin(), (k as f64 * 0.7).cos())).collect();
+        let edges: Vec<EdgeFit> = (0..12u32)
+            .map(|k| EdgeFit {
+                verts: [k % n, (k + 1) % n, (k + 3) % n, (k + 5) % n],
+                fit: [C64::new(0.3, -0.1 * k as f64), C64::new(-0.2, 0.05), C64::new(0.1 * k as f64, 0.4)],
+                edge: C64::new(1.0 + 0.1 * k as f64, -0.3),
+            })
+            .collect();
+        let held = [(2u32, 0usize), (5, 1), (9, 0)];
+        let rotations = [C64::from_polar(1.0, 0.7), C64::from_polar(1.0, -2.1), C64::from_polar(1.0, 0.7)];
+        let mut one = vec![Pair::default(); n as usize];
+        add_fitted_or_held_edges(&edges, &z, &held, &rotations, &mut one);
+        let mut similarities = vec![C64::new(0.0, 0.0); edges.len()];
+        fit_rotations(&edges, &z, &mut similarities);
+        for (&(k, _), &r) in held.iter().zip(&rotations) {
+            similarities[k as usize] = r;
+        }
+        let mut general = vec![Pair::default(); n as usize];
+        add_similar_edges(&edges, &similarities, &vec![1.0; edges.len()], &mut general);
+        for (a, b) in one.iter().zip(&general) {
+            assert_eq!(a.0.map(f64::to_bits), b.0.map(f64::to_bits));
+        }
+        // And a held edge does change the sums.
+        let mut plain = vec![Pair::default(); n as usize];
+        add_rotated_edges(&edges, &z, &mut plain);
+        assert_ne!(plain, one);
     }
 }
