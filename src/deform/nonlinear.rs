@@ -418,7 +418,11 @@ impl Nonlinear {
             centre[0] += targets[*k][0] / self.rows.len() as f64;
             centre[1] += targets[*k][1] / self.rows.len() as f64;
         }
-        if let Some(pins) = &self.pins {
+        // The pins' scales, when one is not 1 (else every log-scale is 0 and every edge's
+        // scale exactly 1: the edge passes skip them).
+        let scaled =
+            self.pins.as_ref().is_some_and(|p| p.rotations.iter().any(|r| rotations[r.pin].scale != 1.0));
+        if let Some(pins) = self.pins.as_ref().filter(|_| scaled) {
             pins.log_scales(rotations, &mut self.log_scales);
         }
         for (x, p) in self.x.iter_mut().zip(positions.iter()) {
@@ -433,8 +437,8 @@ impl Nonlinear {
             solves += 1;
         }
         for _ in 0..self.iterations {
-            self.right_hand_side(system, targets, rotations, centre);
-            let scales = self.pins.as_ref().map(|_| &self.log_scales[..]);
+            self.right_hand_side(system, targets, rotations, centre, scaled);
+            let scales = scaled.then_some(&self.log_scales[..]);
             let regularization = system.regularization.as_ref().map(|r| {
                 edge_targets(r, &system.edges, scales, &self.x, &mut self.edge_targets);
                 (r, &self.edge_targets[..])
@@ -454,13 +458,15 @@ impl Nonlinear {
         solves
     }
 
-    /// `Aᵀ b(V^k)` into `self.rhs` at the current `self.x` (section 4.2).
+    /// `Aᵀ b(V^k)` into `self.rhs` at the current `self.x` (section 4.2); `scaled`: whether
+    /// `self.log_scales` holds the pins' scales (else every edge keeps its rest length).
     fn right_hand_side(
         &mut self,
         system: &NonlinearSystem,
         targets: &[[f64; 2]],
         rotations: &[Rotation],
         centre: [f64; 2],
+        scaled: bool,
     ) {
         let x = &self.x;
         let rhs = &mut self.rhs;
@@ -487,7 +493,7 @@ impl Nonlinear {
         // nothing).
         // With rotating pins, the rest length is scaled by the pins' falloff.
         let wh2 = w.edge_length * w.edge_length;
-        let scales = self.pins.as_ref().map(|_| &self.log_scales[..]);
+        let scales = scaled.then_some(&self.log_scales[..]);
         if wh2 > 0.0 {
             for (k, &(i, j, rest, _)) in system.edges.iter().enumerate() {
                 let d = z(i) - z(j);
