@@ -420,8 +420,7 @@ impl Nonlinear {
         }
         // The pins' scales, when one is not 1 (else every log-scale is 0 and every edge's
         // scale exactly 1: the edge passes skip them).
-        let scaled =
-            self.pins.as_ref().is_some_and(|p| p.rotations.iter().any(|r| rotations[r.pin].scale != 1.0));
+        let scaled = self.pins.as_ref().is_some_and(|p| p.scaled(rotations));
         if let Some(pins) = self.pins.as_ref().filter(|_| scaled) {
             pins.log_scales(rotations, &mut self.log_scales);
         }

@@ -276,6 +276,12 @@ impl PinSet {
         self.rotations.is_empty() && self.multipliers.is_none()
     }
 
+    /// Whether a rotation pin's scale in `rotations` is not 1 (else every vertex's
+    /// log-scale, [`PinSet::log_scales`], is 0).
+    pub(crate) fn scaled(&self, rotations: &[Rotation]) -> bool {
+        self.rotations.iter().any(|r| rotations[r.pin].scale != 1.0)
+    }
+
     /// The log-scale of every vertex for the pins' rotations: `Σ_p h_p ln s_p`, into `out`.
     pub(crate) fn log_scales(&self, rotations: &[Rotation], out: &mut [f64]) {
         out.fill(0.0);

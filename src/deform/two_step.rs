@@ -20,6 +20,7 @@ use super::step2::{add_pin_targets, Step2};
 use super::system::{System, Values};
 use crate::error::Result;
 use crate::solver::{Factor, Pair, Workspace};
+use crate::sort::sort_by_key_stable;
 
 /// Both factorisations of one pin set and the update's buffers.
 #[derive(Debug)]
@@ -46,25 +47,16 @@ struct General {
     similarities: Vec<C64>,
     /// Each edge's energy multiplier.
     multipliers: Vec<f64>,
-    /// The edges whose rotation a pin holds, with the pin.
+    /// The edges whose rotation a pin holds, with the pin, by edge and one entry per edge
+    /// (where two pins' edges meet, the later pin's), and a buffer for their rotations (the
+    /// one-pass update, [`add_fitted_or_held_edges`]).
     held: Vec<(u32, usize)>,
-    /// `held` by edge, one entry per edge (the last of `held`'s, which is the one that
-    /// wins), and a buffer for their rotations: the one-pass update
-    /// ([`add_fitted_or_held_edges`]).
-    held_by_edge: Vec<(u32, usize)>,
     held_rotations: Vec<C64>,
     /// Whether every multiplier is 1 (no starch).
     unit_multipliers: bool,
     /// Each vertex's log-scale.
     log_scales: Vec<f64>,
     pins: PinSet,
-}
-
-impl General {
-    /// Whether every rotation pin keeps scale 1 (then every vertex's log-scale is 0).
-    fn unscaled(&self, rotations: &[Rotation]) -> bool {
-        self.pins.rotations.iter().all(|r| rotations[r.pin].scale == 1.0)
-    }
 }
 
 /// Step 2 as the paper has it (real, x and y apart), or regularised (complex: the
@@ -115,26 +107,18 @@ impl TwoStep {
             },
         };
         let general = (!pins.plain()).then(|| {
-            let held: Vec<(u32, usize)> =
+            let mut held: Vec<(u32, usize)> =
                 pins.rotations.iter().flat_map(|r| r.edges.iter().map(move |&k| (k, r.pin))).collect();
-            // By edge, each edge's last entry first (its key's low bits count from the end).
-            let last = held.len().saturating_sub(1);
-            let mut keys: Vec<u64> = held
-                .iter()
-                .enumerate()
-                .map(|(i, &(k, _))| (u64::from(k) << 32) | (last - i) as u64)
-                .collect();
-            crate::sort::sort_u64(&mut keys);
-            let mut held_by_edge: Vec<(u32, usize)> =
-                keys.iter().map(|&key| ((key >> 32) as u32, held[last - (key as u32 as usize)].1)).collect();
-            held_by_edge.dedup_by_key(|&mut (k, _)| k);
+            // Reversed, sorted stably by edge and deduplicated: each edge's last entry.
+            held.reverse();
+            sort_by_key_stable(&mut held, |&(k, _)| u64::from(k), &mut Vec::new(), &mut Vec::new());
+            held.dedup_by_key(|&mut (k, _)| k);
             let multipliers = pins.multipliers.clone().unwrap_or_else(|| vec![1.0; edges]);
             General {
                 similarities: vec![C64::new(1.0, 0.0); edges],
                 unit_multipliers: multipliers.iter().all(|&m| m == 1.0),
                 multipliers,
-                held_rotations: vec![C64::new(1.0, 0.0); held_by_edge.len()],
-                held_by_edge,
+                held_rotations: vec![C64::new(1.0, 0.0); held.len()],
                 held,
                 log_scales: vec![0.0; system.n],
                 pins: pins.clone(),
@@ -189,21 +173,16 @@ impl TwoStep {
         // The rotation fit (equation 6) normalised to a rotation, then A2ᵀb2 for x and y.
         self.xy.fill(Pair::default());
         let real = matches!(self.step2, Step2Form::Real(_));
-        if let Some(g) = self.general.as_mut().filter(|g| real && g.unit_multipliers && g.unscaled(rotations))
+        if let Some(g) =
+            self.general.as_mut().filter(|g| real && g.unit_multipliers && !g.pins.scaled(rotations))
         {
             // Rotations alone: each edge's fitted rotation or the one its pin holds, added in
             // one pass (the same sums as the general pass below, whose similarities would be
             // these rotations times 1).
-            for (r, &(_, p)) in g.held_rotations.iter_mut().zip(&g.held_by_edge) {
+            for (r, &(_, p)) in g.held_rotations.iter_mut().zip(&g.held) {
                 *r = C64::from_polar(1.0, rotations[p].angle);
             }
-            add_fitted_or_held_edges(
-                &system.edges,
-                &self.z1,
-                &g.held_by_edge,
-                &g.held_rotations,
-                &mut self.xy,
-            );
+            add_fitted_or_held_edges(&system.edges, &self.z1, &g.held, &g.held_rotations, &mut self.xy);
         } else if let Some(g) = &mut self.general {
             // Fitted rotations, those the pins hold, the scales; then the edges.
             fit_rotations(&system.edges, &self.z1, &mut g.similarities);
