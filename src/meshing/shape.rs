@@ -95,14 +95,24 @@ impl ShapeMesh {
         }
     }
 
-    /// Validates deserialised JSON data (see [`ShapeMesh::from_json`]).
-    #[cfg(not(target_arch = "wasm32"))]
-    pub(crate) fn from_json_data(data: JsonOwned) -> Result<ShapeMesh> {
-        let mesh = Mesh::new(data.vertices, data.triangles)?;
-        match data.uvs {
+    /// The shape of the JSON form's fields, validated like [`Mesh::new`] and
+    /// [`ShapeMesh::new`]; without `uvs`, the bounding box's ([`ShapeMesh::with_box_uvs`]).
+    pub(crate) fn from_parts(
+        vertices: Vec<[f64; 2]>,
+        triangles: Vec<[u32; 3]>,
+        uvs: Option<Vec<[f32; 2]>>,
+    ) -> Result<ShapeMesh> {
+        let mesh = Mesh::new(vertices, triangles)?;
+        match uvs {
             Some(uvs) => ShapeMesh::new(mesh, uvs),
             None => Ok(ShapeMesh::with_box_uvs(mesh)),
         }
+    }
+
+    /// Validates deserialised JSON data (see [`ShapeMesh::from_json`]).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub(crate) fn from_json_data(data: JsonOwned) -> Result<ShapeMesh> {
+        ShapeMesh::from_parts(data.vertices, data.triangles, data.uvs)
     }
 
     /// Reads what [`ShapeMesh::to_json`] writes and validates it like [`Mesh::new`].

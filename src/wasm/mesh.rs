@@ -7,7 +7,6 @@ use wasm_bindgen::prelude::*;
 use super::errors::{bad_type, describe};
 use super::options::{image_options, outline_options};
 use super::{flat, items, read_items, rgba_bytes, set, string, typed, Thrown};
-use crate::mesh::Mesh;
 use crate::meshing::{mesh_image, read_obj, shape_from_outline, ShapeMesh};
 use crate::Error;
 
@@ -120,23 +119,18 @@ impl JsMesh {
                 )));
             }
         }
-        let vertices = tuples(&object, "vertices", "[x, y]", number)?.ok_or_else(|| missing("vertices"))?;
-        let triangles =
-            tuples(&object, "triangles", "[a, b, c]", index)?.ok_or_else(|| missing("triangles"))?;
-        let uvs = tuples(&object, "uvs", "[u, v]", |v| number(v).map(|x| x as f32))?;
+        let vertices =
+            tuples(&object, "vertices", "[x, y]", "a number", number)?.ok_or_else(|| missing("vertices"))?;
+        let triangles = tuples(&object, "triangles", "[a, b, c]", "a vertex index", index)?
+            .ok_or_else(|| missing("triangles"))?;
+        let uvs = tuples(&object, "uvs", "[u, v]", "a number", |v| number(v).map(|x| x as f32))?;
         // The boundary is recomputed; a given one is only checked for its type.
         let _: Option<Vec<Vec<u32>>> = field(&object, "boundary", |list, at| {
             elements(list, at, |lp, at| {
                 elements(lp, &at, |v, at| index(v).ok_or_else(|| wrong(&at, "a vertex index", v)))
             })
         })?;
-        let mesh = Mesh::new(vertices, triangles)?;
-        Ok(JsMesh {
-            shape: match uvs {
-                Some(uvs) => ShapeMesh::new(mesh, uvs)?,
-                None => ShapeMesh::with_box_uvs(mesh),
-            },
-        })
+        Ok(JsMesh { shape: ShapeMesh::from_parts(vertices, triangles, uvs)? })
     }
 
     /// The mesh as plain data, so that `JSON.stringify(mesh)` writes it and
@@ -250,11 +244,12 @@ fn field<T>(
 }
 
 /// Field `key` as a list of `N`-tuples (`[x, y]` points, `[a, b, c]` triangles), each entry
-/// read by `entry`.
+/// read by `entry` (`what` it expects, for the error).
 fn tuples<T: Copy + Default, const N: usize>(
     object: &JsValue,
     key: &str,
     shape: &str,
+    what: &str,
     entry: impl Fn(&JsValue) -> Option<T>,
 ) -> Result<Option<Vec<[T; N]>>, Thrown> {
     field(object, key, |list, at| {
@@ -265,7 +260,6 @@ fn tuples<T: Copy + Default, const N: usize>(
             }
             let mut out = [T::default(); N];
             for (k, (slot, x)) in out.iter_mut().zip(&item).enumerate() {
-                let what = if N == 3 { "a vertex index" } else { "a number" };
                 *slot = entry(x).ok_or_else(|| wrong(&format!("{at}[{k}]"), what, x))?;
             }
             Ok(out)

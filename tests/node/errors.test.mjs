@@ -281,6 +281,13 @@ code("bad-obj", () => {
 code("bad-json", () => {
   throws(() => Mesh.fromJSON("{"), "bad-json", {}, /^mesh JSON: /);
   throws(() => Mesh.fromJSON({ vertices: [], triangles: [], colour: 1 }), "bad-json", {}, /unknown field "colour"/);
+  // Each entry names its path and what it expected.
+  const square = [[0, 0], [1, 0], [1, 1]];
+  throws(() => Mesh.fromJSON({ vertices: [[0, 0], [1, "x"]], triangles: [] }), "bad-json", {}, /vertices\[1\]\[1\]: expected a number, got "x"/);
+  throws(() => Mesh.fromJSON({ vertices: square, triangles: [[0, 1.5, 2]] }), "bad-json", {}, /triangles\[0\]\[1\]: expected a vertex index/);
+  throws(() => Mesh.fromJSON({ vertices: square, triangles: [[0, 1, 2]], uvs: [[0, 0], [1, 0], [1, null]] }), "bad-json", {}, /uvs\[2\]\[1\]: expected a number/);
+  throws(() => Mesh.fromJSON({ vertices: [[0, 0, 0]], triangles: [] }), "bad-json", {}, /vertices\[0\]: expected \[x, y\]/);
+  throws(() => Mesh.fromJSON({ triangles: [] }), "bad-json", {}, /missing field `vertices`/);
 });
 
 code("inconsistent-orientation", () => {
