@@ -86,13 +86,13 @@ impl F4 {
         <F4 as Lanes>::splat(x)
     }
 
-    /// The four lanes.
     /// Lanes 0–1 and 2–3.
     #[inline(always)]
     pub(crate) fn halves(self) -> [F2; 2] {
         [self.0, self.1]
     }
 
+    /// The four lanes.
     #[inline(always)]
     pub(crate) fn lanes(self) -> [f64; 4] {
         let ([a, b], [c, d]) = (self.0.lanes(), self.1.lanes());
