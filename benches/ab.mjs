@@ -29,7 +29,7 @@ const methodAt = args.indexOf("--method");
 const method = methodAt >= 0 ? args.splice(methodAt, 2)[1] : "two-step";
 const dirs = args;
 if (dirs.length < 2) {
-  console.error("usage: node benches/ab.mjs [--rounds N] DIR_A DIR_B ...");
+  console.error("usage: node benches/ab.mjs [--rounds N] [--method M] DIR_A DIR_B ...");
   process.exit(2);
 }
 
