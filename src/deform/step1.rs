@@ -96,7 +96,7 @@ impl Step1 {
             for (lane, source) in group.iter().enumerate() {
                 source.scatter(system, w2, C64::new(1.0, 0.0), |v, x| quad[v].0[lane] += x);
             }
-            factor1.solve_in_place(&system.step1, &mut quad, &mut work);
+            factor1.solve_sparse_in_place(&system.step1, &mut quad, &mut work);
             for lane in 0..group.len() {
                 let g = &mut basis[(4 * first + lane) * n..][..n];
                 for (b, q) in g.iter_mut().zip(&quad) {
@@ -124,7 +124,7 @@ impl Step1 {
                 for (source, &c) in sources.iter().zip(coefficients) {
                     source.scatter(system, w2, c, |v, x| z1[v] += x);
                 }
-                factor1.solve_in_place(&system.step1, z1, work);
+                factor1.solve_sparse_in_place(&system.step1, z1, work);
             }
         }
     }
