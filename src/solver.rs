@@ -208,13 +208,26 @@ impl<T> std::fmt::Debug for Factor<T> {
 
 /// A right-hand-side entry that a factor entry of type `T` can act on: a complex number for
 /// step 1, an `(x, y)` pair for step 2.
-pub trait Rhs<T>:
+pub trait Rhs<T: Copy>:
     Copy + Default + PartialEq + AddAssign + SubAssign + Mul<f64, Output = Self> + Div<f64, Output = Self>
 {
     /// `l · self`.
     fn times(self, l: T) -> Self;
     /// `conj(l) · self`.
     fn times_conj(self, l: T) -> Self;
+
+    /// `Σ_k conj(columns[q][k]) · acc[k]` for four columns at once (the back-substitution's
+    /// off-diagonal rows), four independent sums that hide each other's latency.
+    #[inline(always)]
+    fn dot4(acc: &[Self], columns: [&[T]; 4]) -> [Self; 4] {
+        let mut sum = [Self::default(); 4];
+        for (k, &a) in acc.iter().enumerate() {
+            for q in 0..4 {
+                sum[q] += a.times_conj(columns[q][k]);
+            }
+        }
+        sum
+    }
 }
 
 impl Rhs<Complex64> for Complex64 {
@@ -323,6 +336,29 @@ impl Rhs<Complex64> for Quad {
     fn times_conj(self, l: Complex64) -> Self {
         let l = l.conj();
         Quad(self.0.map(|z| l * z))
+    }
+
+    /// In wasm on `f64x2` lanes, one vector per complex number, a column at a time (four
+    /// columns of four lanes would keep 16 sums live): `conj(l) · z = l.re · (z.re, z.im) +
+    /// (l.im, −l.im) · (z.im, z.re)`, the products and sums of `num_complex`'s multiply by
+    /// `conj(l)` (negating is exact), so the same bits as the scalar loop.
+    #[cfg(target_arch = "wasm32")]
+    fn dot4(acc: &[Self], columns: [&[Complex64]; 4]) -> [Self; 4] {
+        use core::arch::wasm32::*;
+        columns.map(|column| {
+            let mut sum = [f64x2_splat(0.0); 4];
+            for (a, l) in acc.iter().zip(column) {
+                let (re, im) = (f64x2_splat(l.re), f64x2(l.im, -l.im));
+                for (s, z) in sum.iter_mut().zip(&a.0) {
+                    // SAFETY: `Complex64` is `repr(C)` `{ re, im }`: 16 bytes (wasm loads
+                    // need no alignment).
+                    let z = unsafe { v128_load(z as *const Complex64 as *const v128) };
+                    let swapped = i64x2_shuffle::<1, 0>(z, z);
+                    *s = f64x2_add(*s, f64x2_add(f64x2_mul(re, z), f64x2_mul(im, swapped)));
+                }
+            }
+            Quad(sum.map(|v| Complex64::new(f64x2_extract_lane::<0>(v), f64x2_extract_lane::<1>(v))))
+        })
     }
 }
 
@@ -447,12 +483,7 @@ impl<T: Entry> Factor<T> {
             let mut quads = xs.chunks_exact_mut(4);
             for xq in &mut quads {
                 let cols = [(); 4].map(|_| &columns.next().expect("c columns")[c..]);
-                let mut sum = [R::default(); 4];
-                for (k, &a) in acc.iter().enumerate() {
-                    for q in 0..4 {
-                        sum[q] += a.times_conj(cols[q][k]);
-                    }
-                }
+                let sum = R::dot4(acc, cols);
                 for q in 0..4 {
                     xq[q] -= sum[q];
                 }
