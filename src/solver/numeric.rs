@@ -619,7 +619,7 @@ fn lanes(v: [core::arch::wasm32::v128; 2]) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::{Factor, Pattern};
+    use crate::solver::{Factor, Pattern, Quad, Workspace};
 
     /// A random Hermitian positive definite matrix on the pattern of a grid's 2-ring
     /// (like step 1's), as upper-triangle values.
@@ -710,16 +710,21 @@ mod tests {
         }
     }
 
+    /// [`grid_matrix`] of `side` ordered and factorised: the factor the solve tests use.
+    fn grid_factor(side: usize) -> (Symbolic, Factor<Complex64>) {
+        let (pattern, values) = grid_matrix(side);
+        let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
+        let factor = Factor::new(&symbolic, &values).unwrap();
+        (symbolic, factor)
+    }
+
     /// The sparse solve skips supernodes whose unknowns are still zero; it must give the
     /// values of the full solve, for right-hand sides with one, a few, and every entry set.
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     fn sparse_solve_matches_the_full_solve() {
-        use crate::solver::{Quad, Workspace};
-        let (pattern, values) = grid_matrix(40);
-        let n = pattern.n;
-        let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
-        let factor = Factor::new(&symbolic, &values).unwrap();
+        let (symbolic, factor) = grid_factor(40);
+        let n = symbolic.pattern.n;
         let mut work = Workspace::new(&symbolic);
         for nonzeros in [vec![0], vec![817, 818, 858], vec![5, 400, 1200, 1599], (0..n).collect()] {
             let mut rhs = vec![Quad::default(); n];
@@ -739,11 +744,8 @@ mod tests {
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     fn four_solves_together_match_each_alone() {
-        use crate::solver::{Quad, Workspace};
-        let (pattern, values) = grid_matrix(30);
-        let n = pattern.n;
-        let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
-        let factor = Factor::new(&symbolic, &values).unwrap();
+        let (symbolic, factor) = grid_factor(30);
+        let n = symbolic.pattern.n;
         let mut quad: Vec<Quad> = (0..n)
             .map(|v| {
                 Quad(
