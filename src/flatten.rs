@@ -125,7 +125,7 @@ pub fn flatten(surface: &Surface, options: &FlattenOptions) -> Result<Flattening
     let vertices: Vec<u32> = pins.iter().map(|p| p.vertex).collect();
     let pin_set = PinSet::of_vertices(&vertices, n);
     let values = system.values_for(&pin_set, w);
-    let mut two_step = TwoStep::new(&system, &values, &pin_set, w, Step1Form::Factor)?;
+    let mut two_step = TwoStep::new(&system, &values, &pin_set, w, Step1Form::Factor, None)?;
     let targets: Vec<[f64; 2]> = pins.iter().map(|p| p.target).collect();
     let unturned = vec![Rotation::default(); pins.len()];
     let mut positions = vec![[0.0; 2]; n];

@@ -3,8 +3,10 @@
 //! The normal matrices of both steps have a sparsity pattern that depends only on the mesh
 //! (handle rows couple the vertices of one triangle, which edges couple already), so the
 //! fill-reducing ordering (AMD) and the symbolic factorisation are computed once at
-//! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]);
-//! an update only back-substitutes, in buffers allocated at compilation.
+//! registration ([`Symbolic`]); compilation adds the numeric factorisation ([`Factor`]),
+//! which in wasm starts from the previous pin set's or starch's factor when there is one
+//! ([`Factor::new_from`]); an update only back-substitutes, in buffers allocated at
+//! compilation.
 //!
 //! faer orders and factorises (supernodal); in wasm both matrices are factorised by
 //! [`numeric`] instead, on faer's symbolic structure, because faer's dense kernels have no
@@ -184,6 +186,8 @@ impl Symbolic {
 /// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern.
 pub struct Factor<T> {
     values: Vec<T>,
+    /// The matrix's values it factorises (for [`Factor::refactor`]).
+    matrix: Vec<T>,
 }
 
 /// The buffers a solve with right-hand-side entries of type `R` works in, allocated once.
@@ -375,6 +379,18 @@ pub trait Entry: ComplexField + numeric::Value {
             Ok(Factor::new_faer(symbolic, values)?.values)
         }
     }
+
+    /// [`Entry::factorize`] of `values` knowing `previous`'s factor of other values: in
+    /// wasm, only the supernodes the change reaches are computed again
+    /// ([`numeric::refactorize`], the same bits as a full factorisation); natively faer
+    /// factorises in full (its kernels are faster than the partial work there is to save).
+    fn refactorize(symbolic: &Symbolic, previous: &Factor<Self>, values: &[Self]) -> Result<Vec<Self>> {
+        if cfg!(target_arch = "wasm32") {
+            numeric::refactorize(symbolic, &previous.matrix, &previous.values, values)
+        } else {
+            Self::factorize(symbolic, values)
+        }
+    }
 }
 
 impl Entry for f64 {}
@@ -385,7 +401,22 @@ impl<T: Entry> Factor<T> {
     /// Factorises the matrix whose upper triangle has `values` in `symbolic`'s pattern order.
     /// Fails if the matrix is not numerically positive definite.
     pub fn new(symbolic: &Symbolic, values: &[T]) -> Result<Factor<T>> {
-        Ok(Factor { values: T::factorize(symbolic, values)? })
+        Ok(Factor { values: T::factorize(symbolic, values)?, matrix: values.to_vec() })
+    }
+
+    /// [`Factor::new`] of `values`, from `previous`, a factor of the same pattern with other
+    /// values (when given): in wasm, only what the change reaches is computed again, for
+    /// the same bits ([`Entry::refactorize`]). `previous` is left as it was.
+    pub fn new_from(symbolic: &Symbolic, values: &[T], previous: Option<&Factor<T>>) -> Result<Factor<T>> {
+        match previous {
+            Some(previous)
+                if previous.matrix.len() == values.len()
+                    && previous.values.len() == symbolic.factor_nnz() =>
+            {
+                Ok(Factor { values: T::refactorize(symbolic, previous, values)?, matrix: values.to_vec() })
+            }
+            _ => Factor::new(symbolic, values),
+        }
     }
 
     /// [`Factor::new`] by faer.
@@ -407,7 +438,7 @@ impl<T: Entry> Factor<T> {
             Default::default(),
         )
         .map_err(|e| Error::Factorization(format!("matrix of order {n} is not positive definite ({e:?})")))?;
-        Ok(Factor { values: l })
+        Ok(Factor { values: l, matrix: values.to_vec() })
     }
 
     /// Solves `A x = rhs` in place: `x = P (L Lᴴ)⁻¹ Pᵀ rhs`. Streams the factor twice;

@@ -297,13 +297,15 @@ impl Nonlinear {
     /// Factorises `AᵀA` for `pins` (position rows of weight `w`; each edge a rotating pin
     /// holds gets the row `w (v_j − v_i − s e^{iθ} e⁰)`, the edge-length rows of stiffer
     /// edges their multiplier). The vertices the pins do not solve get identity rows
-    /// ([conventions](crate::conventions) 8).
+    /// ([conventions](crate::conventions) 8). From `previous`'s factor when given (the same
+    /// rest shape: only what the change reaches is computed again, [`Factor::new_from`]).
     pub(crate) fn new(
         system: &NonlinearSystem,
         mesh: &Mesh,
         pins: &PinSet,
         w: f64,
         options: &Options,
+        previous: Option<&Nonlinear>,
     ) -> Result<Nonlinear> {
         let s = &system.symbolic;
         let w2 = w * w;
@@ -368,13 +370,18 @@ impl Nonlinear {
             }
             values
         }
+        let (real, complex) = match previous.map(|p| &p.factor) {
+            Some(NormalFactor::Real(f, _)) => (Some(f), None),
+            Some(NormalFactor::Complex(f, _, _)) => (None, Some(f)),
+            None => (None, None),
+        };
         let factor = match &system.terms_complex {
             None => NormalFactor::Real(
-                Factor::new(s, &assemble(s, system.terms.clone(), &extra, &solved))?,
+                Factor::new_from(s, &assemble(s, system.terms.clone(), &extra, &solved), real)?,
                 Workspace::new(s),
             ),
             Some(z) => NormalFactor::Complex(
-                Factor::new(s, &assemble(s, z.clone(), &extra, &solved))?,
+                Factor::new_from(s, &assemble(s, z.clone(), &extra, &solved), complex)?,
                 Workspace::new(s),
                 vec![C64::new(0.0, 0.0); solved.len()],
             ),

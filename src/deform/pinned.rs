@@ -67,7 +67,7 @@ impl Pinned {
     /// See [`Rest::compile_pins`]; the injective method starts from `start` (the rest
     /// shape when `None`, or where it is not injective).
     pub(crate) fn compile(rest: &Rest, pins: &[Pin], start: Option<&[[f64; 2]]>) -> Result<Pinned> {
-        Pinned::build(rest, pins, Vec::new(), None, start)
+        Pinned::build(rest, pins, Vec::new(), None, start, None)
     }
 
     fn build(
@@ -76,11 +76,12 @@ impl Pinned {
         starch: Vec<Starch>,
         starch_multipliers: Option<Vec<f64>>,
         start: Option<&[[f64; 2]]>,
+        previous: Option<&Solver>,
     ) -> Result<Pinned> {
         let data = &rest.0;
         let mesh = &data.mesh;
         let set = PinSet::new(data, data.graph(), pins, starch_multipliers.as_deref())?;
-        let solver = Solver::new(data, &set, start.unwrap_or(mesh.vertices()))?;
+        let solver = Solver::new(data, &set, start.unwrap_or(mesh.vertices()), previous)?;
         let mut positions = mesh.vertices().to_vec();
         if let Solver::Injective(injective) = &solver {
             for (p, q) in positions.iter_mut().zip(injective.positions()) {
@@ -109,6 +110,7 @@ impl Pinned {
             self.starch.clone(),
             self.starch_multipliers.clone(),
             Some(&self.positions),
+            Some(&self.solver),
         )
     }
 
@@ -125,7 +127,14 @@ impl Pinned {
             Some(edge_multipliers(&data.mesh, data.graph(), &|p| self.rest.locate(p), starch)?)
         };
         let pins = self.pins.pins.clone();
-        *self = Pinned::build(&self.rest, &pins, starch.to_vec(), multipliers, Some(&self.positions))?;
+        *self = Pinned::build(
+            &self.rest,
+            &pins,
+            starch.to_vec(),
+            multipliers,
+            Some(&self.positions),
+            Some(&self.solver),
+        )?;
         Ok(())
     }
 
@@ -343,22 +352,41 @@ impl Pinned {
 }
 
 impl Solver {
-    /// The method's state for a pin set; the injective method starts from `start`.
-    fn new(data: &RestData, pins: &PinSet, start: &[[f64; 2]]) -> Result<Solver> {
+    /// The method's state for a pin set; the injective method starts from `start`. The
+    /// factorisations start from `previous`'s (another pin set or starch on the same rest
+    /// shape, [`crate::solver::Factor::new_from`]) when given.
+    fn new(data: &RestData, pins: &PinSet, start: &[[f64; 2]], previous: Option<&Solver>) -> Result<Solver> {
         let system = &data.system;
         let w = data.options.handle_weight;
         let values = system.values_for(pins, w);
         Ok(match data.options.method {
             Method::TwoStep => {
-                Solver::TwoStep(Box::new(TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates)?))
+                let previous = match previous {
+                    Some(Solver::TwoStep(t) | Solver::Nonlinear(t, _)) => Some(&**t),
+                    _ => None,
+                };
+                Solver::TwoStep(Box::new(TwoStep::new(
+                    system,
+                    &values,
+                    pins,
+                    w,
+                    Step1Form::ForUpdates,
+                    previous,
+                )?))
             }
             Method::Nonlinear => {
                 let weng = data
                     .nonlinear
                     .as_ref()
                     .ok_or_else(|| Error::Factorization("no nonlinear system".into()))?;
-                let nonlinear = Nonlinear::new(weng, &data.mesh, pins, w, &data.options)?;
-                let two_step = TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates)?;
+                let (previous_two_step, previous) = match previous {
+                    Some(Solver::Nonlinear(t, n)) => (Some(&**t), Some(&**n)),
+                    Some(Solver::TwoStep(t)) => (Some(&**t), None),
+                    _ => (None, None),
+                };
+                let nonlinear = Nonlinear::new(weng, &data.mesh, pins, w, &data.options, previous)?;
+                let two_step =
+                    TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates, previous_two_step)?;
                 Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
             }
             Method::Injective => {
@@ -366,7 +394,11 @@ impl Solver {
                 // Newton systems.
                 let mut step2_values = values.step2;
                 add_held_terms(system, &data.mesh, pins, w, &mut step2_values);
-                let step2 = Step2::new(system, Factor::new(&system.step2, &step2_values)?);
+                let previous = match previous {
+                    Some(Solver::Injective(i)) => Some(i.step2_factor()),
+                    _ => None,
+                };
+                let step2 = Step2::new(system, Factor::new_from(&system.step2, &step2_values, previous)?);
                 Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
             }
         })

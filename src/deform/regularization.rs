@@ -269,7 +269,7 @@ mod tests {
         let pinned = [7usize, 28];
         let set = PinSet::of_vertices(&[7, 28], mesh.vertices().len());
         let values = data.system.values_for(&set, w);
-        let mut two = TwoStep::new(&data.system, &values, &set, w, Step1Form::Factor).unwrap();
+        let mut two = TwoStep::new(&data.system, &values, &set, w, Step1Form::Factor, None).unwrap();
         let targets = [[0.5, 0.8], [6.5, 3.0]];
         let mut out = vec![[0.0; 2]; mesh.vertices().len()];
         two.solve(&data.system, &targets, &[Rotation::default(); 2], &mut out);

@@ -57,8 +57,9 @@ impl Source {
 /// How an update gets step 1's solution.
 #[derive(Debug)]
 pub(crate) enum Step1 {
-    /// The solution of every source, source-major (`sources × n`).
-    Basis(Vec<C64>),
+    /// The solution of every source, source-major (`sources × n`), and the factor (kept
+    /// for a refactorisation, [`Factor::new_from`]).
+    Basis(Vec<C64>, Factor<C64>),
     /// The factor of `A1ᴴA1`, its workspace and the sources.
     Solve(Factor<C64>, Workspace<C64>, Vec<Source>),
 }
@@ -104,7 +105,14 @@ impl Step1 {
                 }
             }
         }
-        Step1::Basis(basis)
+        Step1::Basis(basis, factor1)
+    }
+
+    /// The factor of `A1ᴴA1`.
+    pub(crate) fn factor(&self) -> &Factor<C64> {
+        match self {
+            Step1::Basis(_, factor) | Step1::Solve(factor, _, _) => factor,
+        }
     }
 
     /// Solves step 1 into `z1` for each source's coefficient (`coefficients`, in the
@@ -113,7 +121,7 @@ impl Step1 {
     pub(crate) fn solve(&mut self, system: &System, w2: f64, coefficients: &[C64], z1: &mut [C64]) {
         z1.fill(C64::new(0.0, 0.0));
         match self {
-            Step1::Basis(basis) => {
+            Step1::Basis(basis, _) => {
                 for (g, &c) in basis.chunks_exact(z1.len().max(1)).zip(coefficients) {
                     for (z, &b) in z1.iter_mut().zip(g) {
                         *z += c * b;

@@ -75,13 +75,16 @@ enum Step2Form {
 
 impl TwoStep {
     /// Factorises both normal matrices, whose `values` already hold the edge terms, the pin
-    /// rows (weight `w`), the rotation rows and identity rows for the vertices not solved.
+    /// rows (weight `w`), the rotation rows and identity rows for the vertices not solved;
+    /// from `previous`'s factors when given (another pin set or starch on the same rest
+    /// shape: only what the change reaches is computed again, [`Factor::new_from`]).
     pub(crate) fn new(
         system: &System,
         values: &Values,
         pins: &PinSet,
         w: f64,
         form: Step1Form,
+        previous: Option<&TwoStep>,
     ) -> Result<TwoStep> {
         let w2 = w * w;
         let rows: Vec<PinRow> = pins.positions.iter().map(|(_, r)| *r).collect();
@@ -93,14 +96,27 @@ impl TwoStep {
             ));
         }
         let rotation_pins = pins.rotations.iter().map(|r| r.pin).collect();
-        let factor1 = Factor::new(&system.step1, &values.step1)?;
+        let factor1 = Factor::new_from(&system.step1, &values.step1, previous.map(|p| p.step1.factor()))?;
         let n_sources = sources.len();
         let step1 = Step1::new(system, factor1, sources, w2, form);
         let edges = system.edges.len();
         let step2 = match &values.step2_complex {
-            None => Step2Form::Real(Step2::new(system, Factor::new(&system.step2, &values.step2)?)),
+            None => {
+                let previous = previous.and_then(|p| match &p.step2 {
+                    Step2Form::Real(step2) => Some(&step2.factor),
+                    Step2Form::Regularized { .. } => None,
+                });
+                Step2Form::Real(Step2::new(system, Factor::new_from(&system.step2, &values.step2, previous)?))
+            }
             Some(z) => Step2Form::Regularized {
-                factor: Factor::new(&system.step2, z)?,
+                factor: Factor::new_from(
+                    &system.step2,
+                    z,
+                    previous.and_then(|p| match &p.step2 {
+                        Step2Form::Regularized { factor, .. } => Some(factor),
+                        Step2Form::Real(_) => None,
+                    }),
+                )?,
                 work: Workspace::new(&system.step2),
                 rotations: vec![C64::new(1.0, 0.0); edges],
                 z: vec![C64::new(0.0, 0.0); system.n],

@@ -20,6 +20,9 @@
 //! 3. Subtract the panel's Schur complement `L₂₁ L₂₁ᴴ` from the blocks of the supernodes
 //!    its off-diagonal rows belong to, [`BLOCK`] columns at a time.
 //!
+//! After a change of some of the matrix's values (starch, another pin set), [`refactorize`]
+//! computes again only the supernodes the change reaches, for the same bits.
+//!
 //! Each finished panel column is packed once into groups of four rows ([`Packed`]): for
 //! every group and column, the four rows' real parts (then, complex, their imaginary
 //! parts), the columns of a group one after another. The products then read a tile's rows
@@ -48,6 +51,8 @@ pub(super) struct Assembly {
     slots: Vec<u32>,
     /// `supernode_of[k]`: the supernode of eliminated column `k`.
     supernode_of: Vec<u32>,
+    /// For each entry of the pattern, the supernode whose block it lands in.
+    slot_supernode: Vec<u32>,
 }
 
 impl Assembly {
@@ -76,6 +81,7 @@ impl Assembly {
             position[p as usize] = k as u32;
         }
         let mut slots = Vec::with_capacity(pattern.row_idx.len());
+        let mut slot_supernode = Vec::with_capacity(pattern.row_idx.len());
         for j in 0..n {
             for (_, i) in pattern.column(j) {
                 // Entry (i, j), i ≤ j, of A is entry (pi, pj) of the permuted matrix; the
@@ -83,7 +89,8 @@ impl Assembly {
                 // when that mirrors it.
                 let (pi, pj) = (position[i], position[j]);
                 let (r, c) = (pi.max(pj), pi.min(pj));
-                let sn = &supernodes[supernode_of[c as usize] as usize];
+                let owner = supernode_of[c as usize];
+                let sn = &supernodes[owner as usize];
                 let local_row = if r < sn.start + sn.ncols {
                     r - sn.start
                 } else {
@@ -94,9 +101,10 @@ impl Assembly {
                     + (c - sn.start) as usize * (sn.ncols + sn.row_len) as usize
                     + local_row as usize;
                 slots.push((offset as u32) << 1 | u32::from(pi < pj));
+                slot_supernode.push(owner);
             }
         }
-        Ok(Assembly { slots, supernode_of })
+        Ok(Assembly { slots, supernode_of, slot_supernode })
     }
 }
 
@@ -104,66 +112,116 @@ impl Assembly {
 /// `values` in `symbolic`'s pattern order into faer's supernodal value layout. Fails if the
 /// matrix is not numerically positive definite.
 pub(super) fn factorize<T: Value>(symbolic: &Symbolic, values: &[T]) -> Result<Vec<T>> {
-    // 1. The matrix into the blocks.
     let assembly = Assembly::of(symbolic)?;
-    let zero = T::default();
-    let mut l = vec![zero; symbolic.cholesky.len_val()];
+    let mut l = vec![T::default(); symbolic.cholesky.len_val()];
+    // 1. The matrix into the blocks.
     for (&v, &slot) in values.iter().zip(&assembly.slots) {
-        let (offset, conjugate) = ((slot >> 1) as usize, slot & 1 == 1);
-        l[offset] = if conjugate { v.conj() } else { v };
+        place(&mut l, v, slot);
     }
+    eliminate(symbolic, assembly, &mut l, None)?;
+    Ok(l)
+}
+
+/// Refactorises after some of the matrix's values changed: `factor` is [`factorize`]'s
+/// result for `old_values`, and the result is [`factorize`]'s for `values`, bit for bit,
+/// for less work when the change is local (starch on a limb, a pin added).
+///
+/// A supernode's columns depend only on the matrix entries in its own block and on the
+/// supernodes below it in the elimination tree. So the supernodes that must be computed
+/// again are those whose block holds a changed entry, and their ancestors; every other
+/// supernode keeps its columns, and only sends its Schur complement to the recomputed
+/// ones. Those form the tail of its off-diagonal rows (a supernode's rows lie on its path
+/// to the root, in order, and the recomputed set is closed upwards), so it sends the
+/// bottom-right part of its complement, with the very products of the full
+/// factorisation.
+pub(super) fn refactorize<T: Value>(
+    symbolic: &Symbolic,
+    old_values: &[T],
+    factor: &[T],
+    values: &[T],
+) -> Result<Vec<T>> {
+    let assembly = Assembly::of(symbolic)?;
+    if old_values.len() != values.len() || factor.len() != symbolic.cholesky.len_val() {
+        return Err(Error::Factorization("refactorisation of another pattern".into()));
+    }
+    let supernodes = &symbolic.supernodes;
+    let mut again = vec![false; supernodes.len()];
+    for ((old, new), &owner) in old_values.iter().zip(values).zip(&assembly.slot_supernode) {
+        if old != new {
+            again[owner as usize] = true;
+        }
+    }
+    for (s, sn) in supernodes.iter().enumerate() {
+        if again[s] && sn.row_len > 0 {
+            again[assembly.supernode_of[symbolic.rows[sn.row_start as usize] as usize] as usize] = true;
+        }
+    }
+    let mut l = factor.to_vec();
+    for (sn, _) in supernodes.iter().zip(&again).filter(|(_, &a)| a) {
+        let block = (sn.ncols + sn.row_len) as usize * sn.ncols as usize;
+        l[sn.value_start..sn.value_start + block].fill(T::default());
+    }
+    for ((&v, &slot), &owner) in values.iter().zip(&assembly.slots).zip(&assembly.slot_supernode) {
+        if again[owner as usize] {
+            place(&mut l, v, slot);
+        }
+    }
+    eliminate(symbolic, assembly, &mut l, Some(&again))?;
+    Ok(l)
+}
+
+/// Writes a matrix entry to its slot in the factor's blocks ([`Assembly::slots`]).
+#[inline(always)]
+fn place<T: Value>(l: &mut [T], v: T, slot: u32) {
+    let (offset, conjugate) = ((slot >> 1) as usize, slot & 1 == 1);
+    l[offset] = if conjugate { v.conj() } else { v };
+}
+
+/// Steps 2 and 3 on the assembled blocks `l`, for every supernode, or (`again`) only for
+/// those marked, the others sending their complement to the marked ones alone.
+fn eliminate<T: Value>(
+    symbolic: &Symbolic,
+    assembly: &Assembly,
+    l: &mut [T],
+    again: Option<&[bool]>,
+) -> Result<()> {
+    let zero = T::default();
     let widest = symbolic.supernodes.iter().map(|s| (s.ncols + s.row_len) as usize).max().unwrap_or(0);
     let widest_cols = symbolic.supernodes.iter().map(|s| s.ncols as usize).max().unwrap_or(0);
     let mut update = vec![zero; widest * BLOCK];
     let mut packed_values = vec![0.0; T::PARTS * GROUP * widest.div_ceil(GROUP) * widest_cols];
     let mut relative = vec![0u32; symbolic.max_rows];
 
-    for sn in &symbolic.supernodes {
+    for (s, sn) in symbolic.supernodes.iter().enumerate() {
         let (c, p) = (sn.ncols as usize, sn.row_len as usize);
         let ld = c + p;
+        let rows = &symbolic.rows[sn.row_start as usize..][..p];
         let mut packed = Packed { values: &mut packed_values, columns: c, parts: PhantomData };
         let (head, tail) = l.split_at_mut(sn.value_start + ld * c);
         let panel = &mut head[sn.value_start..];
 
-        // 2. The panel, BLOCK columns at a time.
-        for j0 in (0..c).step_by(BLOCK) {
-            let nb = BLOCK.min(c - j0);
-            if j0 > 0 {
-                let m = ld - j0;
-                Product { packed: packed.view(), ra: j0, m, rb: j0, n: nb, depth: j0 }.run(&mut update);
-                for jj in 0..nb {
-                    let column = &mut panel[(j0 + jj) * ld + j0..(j0 + jj + 1) * ld];
-                    for (x, &u) in column.iter_mut().zip(&update[jj * m..(jj + 1) * m]).skip(jj) {
-                        *x -= u;
-                    }
+        // The first off-diagonal row whose supernode takes this one's complement: all of
+        // them, or for a kept supernode, the tail of those that are computed again.
+        let first = match again {
+            Some(again) if !again[s] => {
+                let Some(first) =
+                    rows.iter().position(|&r| again[assembly.supernode_of[r as usize] as usize])
+                else {
+                    continue;
+                };
+                for j in 0..c {
+                    packed.set_rows(j, &panel[j * ld..(j + 1) * ld], (c + first) / GROUP);
                 }
+                first
             }
-            for j in j0..j0 + nb {
-                for k in j0..j {
-                    let f = panel[k * ld + j].conj();
-                    let (left, right) = panel.split_at_mut(j * ld);
-                    T::sub_scaled(&mut right[j..ld], &left[k * ld + j..k * ld + ld], f);
-                }
-                let d = panel[j * ld + j].re();
-                if !(d > 0.0 && d.is_finite()) {
-                    return Err(Error::Factorization(format!(
-                        "matrix of order {} is not positive definite (pivot {d:e})",
-                        symbolic.pattern.n
-                    )));
-                }
-                let d = d.sqrt();
-                panel[j * ld + j] = T::real(d);
-                let inverse = 1.0 / d;
-                for x in &mut panel[j * ld + j + 1..(j + 1) * ld] {
-                    *x = x.scale(inverse);
-                }
-                packed.set_column(j, &panel[j * ld..(j + 1) * ld]);
+            _ => {
+                factor_panel(symbolic, panel, &mut packed, &mut update, c, ld)?;
+                0
             }
-        }
+        };
 
         // 3. The Schur complement, to the supernodes the off-diagonal rows belong to.
-        let rows = &symbolic.rows[sn.row_start as usize..][..p];
-        let mut b0 = 0;
+        let mut b0 = first;
         while b0 < p {
             let target = &symbolic.supernodes[assembly.supernode_of[rows[b0] as usize] as usize];
             let end = target.start + target.ncols;
@@ -202,12 +260,59 @@ pub(super) fn factorize<T: Value>(symbolic: &Symbolic, values: &[T]) -> Result<V
             b0 = b1;
         }
     }
-    Ok(l)
+    Ok(())
+}
+
+/// Step 2 for one supernode: its `(c + p) × c` panel (column-major, leading dimension
+/// `ld`), [`BLOCK`] columns at a time, each finished column packed.
+fn factor_panel<T: Value>(
+    symbolic: &Symbolic,
+    panel: &mut [T],
+    packed: &mut Packed<'_, T>,
+    update: &mut [T],
+    c: usize,
+    ld: usize,
+) -> Result<()> {
+    for j0 in (0..c).step_by(BLOCK) {
+        let nb = BLOCK.min(c - j0);
+        if j0 > 0 {
+            let m = ld - j0;
+            Product { packed: packed.view(), ra: j0, m, rb: j0, n: nb, depth: j0 }.run(update);
+            for jj in 0..nb {
+                let column = &mut panel[(j0 + jj) * ld + j0..(j0 + jj + 1) * ld];
+                for (x, &u) in column.iter_mut().zip(&update[jj * m..(jj + 1) * m]).skip(jj) {
+                    *x -= u;
+                }
+            }
+        }
+        for j in j0..j0 + nb {
+            for k in j0..j {
+                let f = panel[k * ld + j].conj();
+                let (left, right) = panel.split_at_mut(j * ld);
+                T::sub_scaled(&mut right[j..ld], &left[k * ld + j..k * ld + ld], f);
+            }
+            let d = panel[j * ld + j].re();
+            if !(d > 0.0 && d.is_finite()) {
+                return Err(Error::Factorization(format!(
+                    "matrix of order {} is not positive definite (pivot {d:e})",
+                    symbolic.pattern.n
+                )));
+            }
+            let d = d.sqrt();
+            panel[j * ld + j] = T::real(d);
+            let inverse = 1.0 / d;
+            for x in &mut panel[j * ld + j + 1..(j + 1) * ld] {
+                *x = x.scale(inverse);
+            }
+            packed.set_column(j, &panel[j * ld..(j + 1) * ld]);
+        }
+    }
+    Ok(())
 }
 
 /// What the factorisation needs of an entry type: the complex step-1 matrix (`Complex64`)
 /// and the real step-2 matrix (`f64`).
-pub trait Value: Copy + Default + Mul<Output = Self> + AddAssign + SubAssign {
+pub trait Value: Copy + Default + PartialEq + Mul<Output = Self> + AddAssign + SubAssign {
     /// `f64`s per packed entry: 1 for a real, 2 for a complex number.
     const PARTS: usize;
     /// The complex conjugate (a real is its own).
@@ -349,26 +454,35 @@ struct Packed<'a, T> {
 impl<T: Value> Packed<'_, T> {
     /// Packs finished column `k` (all its `c + p` rows).
     fn set_column(&mut self, k: usize, column: &[T]) {
+        self.set_rows(k, column, 0);
+    }
+
+    /// Packs the groups of column `k` from group `from` on (a kept supernode's, whose
+    /// complement goes to its last rows only).
+    fn set_rows(&mut self, k: usize, column: &[T], from: usize) {
         let size = T::PARTS * GROUP;
         // In wasm, the full groups on f64x2 lanes first; the last group, if partial, below.
         #[cfg(target_arch = "wasm32")]
         let first = {
             let full = column.len() / GROUP;
-            if full > 0 {
+            if full > from {
                 let end = size * ((full - 1) * self.columns + k) + size;
                 assert!(end <= self.values.len());
-                // SAFETY: group g < full is written to values[size·(g·columns + k)..][..size],
-                // which ends at or before `end` (checked).
+                // SAFETY: group from ≤ g < full is written to
+                // values[size·(g·columns + k)..][..size], which ends at or before `end`
+                // (checked).
                 unsafe {
-                    let out = self.values.as_mut_ptr().add(size * k);
-                    T::pack_groups(&column[..full * GROUP], out, size * self.columns);
+                    let out = self.values.as_mut_ptr().add(size * (from * self.columns + k));
+                    T::pack_groups(&column[from * GROUP..full * GROUP], out, size * self.columns);
                 }
+                full
+            } else {
+                from
             }
-            full
         };
         #[cfg(not(target_arch = "wasm32"))]
-        let first = 0;
-        for (g, rows) in column[first * GROUP..].chunks(GROUP).enumerate() {
+        let first = from;
+        for (g, rows) in column[(first * GROUP).min(column.len())..].chunks(GROUP).enumerate() {
             let at = size * ((first + g) * self.columns + k);
             T::pack(rows, &mut self.values[at..at + size]);
         }
@@ -765,6 +879,51 @@ mod tests {
                     (z.re.to_bits(), z.im.to_bits())
                 );
             }
+        }
+    }
+
+    /// A refactorisation after a change gives the bits of a full factorisation of the new
+    /// values: for a change in one corner of the grid (a region that starch would stiffen),
+    /// at one unknown, at the unknown eliminated last, everywhere, and nowhere; complex and
+    /// real. It fails if a supernode the change reaches is kept, or a kept one misses a
+    /// complement.
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    fn refactorisation_matches_a_full_factorisation() {
+        fn check<T: Value + std::fmt::Debug>(symbolic: &Symbolic, old: &[T], new: &[T], what: &str) {
+            let before = factorize(symbolic, old).unwrap();
+            let full = factorize(symbolic, new).unwrap();
+            let partial = refactorize(symbolic, old, &before, new).unwrap();
+            assert!(full == partial, "{what}: the refactorisation differs");
+            if old != new {
+                assert!(full != before, "{what}: the change changes nothing");
+            }
+        }
+        let side = 40;
+        let (pattern, values) = grid_matrix(side);
+        let symbolic = Symbolic::with_ordering(pattern, None).unwrap();
+        let pattern = &symbolic.pattern;
+        let last = symbolic.perm[side * side - 1] as usize;
+        let corner = |v: usize| v % side < 12 && v / side < 9;
+        let changes: [(&str, &dyn Fn(usize) -> bool); 5] = [
+            ("a corner", &corner),
+            ("one unknown", &|v| v == 417),
+            ("the last unknown", &|v| v == last),
+            ("everywhere", &|_| true),
+            ("nowhere", &|_| false),
+        ];
+        for (what, changed) in changes {
+            let mut new = values.clone();
+            for j in 0..side * side {
+                for (k, i) in pattern.column(j) {
+                    if changed(i) && changed(j) {
+                        new[k] *= 1.75;
+                    }
+                }
+            }
+            check(&symbolic, &values, &new, what);
+            let real = |v: &[Complex64]| v.iter().map(|z| z.re).collect::<Vec<f64>>();
+            check(&symbolic, &real(&values), &real(&new), what);
         }
     }
 

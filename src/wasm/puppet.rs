@@ -69,7 +69,8 @@ impl Puppet {
     /// rotation and scale) and `options.radius` a radius in rest units (a number, or a
     /// `Float64Array` per pin; default 0): such a pin holds the disc of the rest shape
     /// within that distance along the mesh rigidly, not a point. Factorises the normal
-    /// matrices once. The pose and the starch are kept: a new pin starts where its rest
+    /// matrices once; on a compiled puppet, only the part of the factors that the new pins
+    /// change is computed again. The pose and the starch are kept: a new pin starts where its rest
     /// point now is, so nothing jumps. Throws if a handle lies outside the shape, is not
     /// finite, or coincides with another (the error names the handle), or for a bad kind or
     /// radius; the previous pin set then stays compiled.
@@ -117,8 +118,8 @@ impl Puppet {
     /// `{ at: [x, y], amount, extent }` multiplies the stiffness of the edges within
     /// `extent` of `at`, measured along the mesh, by `1 + 100 · amount` (amounts of
     /// overlapping regions add up; negative ones cancel; the stiffness never falls below
-    /// 1/100). An empty list removes the starch. A numeric refactorisation (no
-    /// re-registration, the pose kept); the starch stays through later compiles. Throws
+    /// 1/100). An empty list removes the starch. A numeric refactorisation of the part of
+    /// the factors the change reaches (no re-registration, the pose kept); the starch stays through later compiles. Throws
     /// naming the region (`starch[2].extent`, or `point-outside` for a centre off the
     /// shape); the starch is then as it was.
     #[wasm_bindgen(js_name = setStarch)]

@@ -198,6 +198,11 @@ pub(crate) fn add_held_terms(system: &System, mesh: &Mesh, pins: &PinSet, w: f64
 }
 
 impl Injective {
+    /// The preconditioner's factor of `A2ᵀA2`.
+    pub(crate) fn step2_factor(&self) -> &crate::solver::Factor<f64> {
+        &self.step2.factor
+    }
+
     /// The method on `mesh` for the pins `rows` (weight `w`), preconditioned by `step2`
     /// (the factor of `A2ᵀA2` for these pins), starting from `start` (which must be
     /// injective on every solved component; the rest shape is used where it is not).
