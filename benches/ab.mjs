@@ -14,11 +14,9 @@
 // A build is any package directory with bunraku.js and bunraku_bg.wasm (e.g. pkg/ at an
 // older commit, built in a git worktree).
 
-import { readFileSync } from "node:fs";
 import { gzipSync } from "node:zlib";
-import { resolve } from "node:path";
-import { pathToFileURL } from "node:url";
 import os from "node:os";
+import { loadBuilds } from "./_builds.mjs";
 import { spacingFor, star } from "./_star.mjs";
 import { median, ms } from "./_time.mjs";
 
@@ -34,11 +32,7 @@ if (dirs.length < 2) {
 }
 
 const builds = [];
-for (const dir of dirs) {
-  const url = pathToFileURL(resolve(dir) + "/");
-  const bytes = readFileSync(new URL("bunraku_bg.wasm", url));
-  const lib = await import(new URL("bunraku.js", url).href);
-  lib.initSync({ module: bytes });
+for (const { dir, lib, bytes } of await loadBuilds(dirs)) {
   // Builds from before the method option (issue 10) know only the two-step method.
   let options = { method };
   try {

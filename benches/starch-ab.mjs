@@ -7,10 +7,8 @@
 //   node benches/starch-ab.mjs METHOD DIR_A DIR_B ...   (METHOD: two-step, nonlinear or injective;
 //                                                      each DIR a pkg/ with bunraku.js and bunraku_bg.wasm)
 
-import { readFileSync } from "node:fs";
-import { resolve } from "node:path";
-import { pathToFileURL } from "node:url";
 import { performance } from "node:perf_hooks";
+import { loadBuilds } from "./_builds.mjs";
 import { spacingFor, star } from "./_star.mjs";
 
 const [method, ...dirs] = process.argv.slice(2);
@@ -18,13 +16,7 @@ if (!method || dirs.length < 1) {
   console.error("usage: node benches/starch-ab.mjs METHOD DIR_A DIR_B ...");
   process.exit(2);
 }
-const libs = [];
-for (const dir of dirs) {
-  const url = pathToFileURL(resolve(dir) + "/");
-  const lib = await import(new URL("bunraku.js", url).href);
-  lib.initSync({ module: readFileSync(new URL("bunraku_bg.wasm", url)) });
-  libs.push(lib);
-}
+const libs = (await loadBuilds(dirs)).map((b) => b.lib);
 const mesh = libs[0].Mesh.fromOutline(star, undefined, { spacing: spacingFor(30000) });
 const [vertices, triangles] = [mesh.vertices, mesh.triangles];
 const handles = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
