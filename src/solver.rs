@@ -186,7 +186,7 @@ impl Symbolic {
 /// A numeric Cholesky factor `L Lᴴ` of a matrix with a [`Symbolic`]'s pattern.
 pub struct Factor<T> {
     values: Vec<T>,
-    /// The matrix's values it factorises (for [`Factor::refactor`]).
+    /// The matrix's values it factorises (for [`Factor::new_from`]).
     matrix: Vec<T>,
 }
 

@@ -38,7 +38,8 @@ impl Edge {
     }
 }
 
-/// No triangle on that side: the entry of [`triangle_adjacency`] for a boundary edge.
+/// No triangle on that side: the entry of [`build_edges`]'s triangle adjacency for a boundary
+/// edge.
 pub const NO_TRIANGLE: u32 = u32::MAX;
 
 /// A directed edge of a triangle: `(smaller vertex, larger vertex, 4 × triangle + local
@@ -76,7 +77,7 @@ pub(crate) fn edge_runs(half: &[HalfEdge]) -> impl Iterator<Item = &[HalfEdge]> 
 }
 
 /// The undirected edges of a manifold, consistently oriented triangle list, sorted by
-/// `(i, j)`, and each triangle's neighbours across its local edges ([`triangle_adjacency`]).
+/// `(i, j)`, and each triangle's neighbours across its local edges (the triangle adjacency).
 ///
 /// Errors: [`Error::NonManifoldEdge`] (an edge in more than two triangles),
 /// [`Error::FoldedEdge`] (two triangles on the same side of their edge).

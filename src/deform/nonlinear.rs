@@ -31,7 +31,7 @@
 //! * `T_i` is fitted as a **similarity** (rotation and uniform scale). As printed it is a
 //!   general linear map fitted to the two boundary neighbours, which reproduces any current
 //!   `δ` exactly (two vectors determine a linear map), so the Laplacian term would hold
-//!   nothing; a similarity keeps the boundary's local shape, as the paper's reference [18]
+//!   nothing; a similarity keeps the boundary's local shape, as the paper's reference \[18\]
 //!   (Sorkine et al.'s Laplacian editing) does.
 //! * The multiplier solves the constraint **exactly** along `q` (the area is a quadratic of
 //!   `λ` there) instead of on its linearisation at `V^k`; the two agree to first order, and

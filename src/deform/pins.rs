@@ -110,8 +110,8 @@ impl Default for Rotation {
 }
 
 impl Rotation {
-    /// The similarity as a complex number `scale · e^{i angle}` ([conventions]
-    /// (crate::conventions) 3).
+    /// The similarity as a complex number `scale · e^{i angle}`
+    /// ([conventions](crate::conventions) 3).
     pub(crate) fn complex(self) -> num_complex::Complex64 {
         num_complex::Complex64::from_polar(self.scale, self.angle)
     }

@@ -9,9 +9,10 @@
 //! lost the formulas; reconstructed here for the edge-based energies of Igarashi & Igarashi:
 //!
 //! * The elements are the edges, and their residuals are made **dimensionless and
-//!   frame-free** by dividing by the rest edge as a complex number ([conventions]
-//!   (crate::conventions) 3): `ρ_k = r_k / e_k` with `r_k = (z_j − z_i) − T_k e_k`. Step 1's
-//!   energy is then `Σ_k m_k |ρ_k|²` with the mass `m_k = ω_k² |e_k|²` (an area): `D_A`.
+//!   frame-free** by dividing by the rest edge as a complex number
+//!   ([conventions](crate::conventions) 3): `ρ_k = r_k / e_k` with
+//!   `r_k = (z_j − z_i) − T_k e_k`. Step 1's energy is then `Σ_k m_k |ρ_k|²` with the mass
+//!   `m_k = ω_k² |e_k|²` (an area): `D_A`.
 //!   A similarity residual is the same complex number on every edge of a triangle, so `R`
 //!   penalises only residuals that vary across the mesh, not a uniform scale.
 //! * `D` takes the difference `ρ_k − ρ_l` of every two edges `k`, `l` of one triangle, and

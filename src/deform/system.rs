@@ -11,7 +11,8 @@
 //! so no pin set changes either pattern: the orderings and symbolic factorisations are made
 //! once here ([`System::new`]), and a new pin set, new edge weights or new pin rows only
 //! need a numeric factorisation of new [`Values`] in the same patterns
-//! ([`crate::solver::Factor::refactor`]).
+//! ([`crate::solver::Factor::new`], or [`crate::solver::Factor::new_from`] from the previous
+//! factor).
 
 use num_complex::Complex64 as C64;
 
