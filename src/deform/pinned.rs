@@ -360,31 +360,25 @@ impl Solver {
         let w = data.options.handle_weight;
         let values = system.values_for(pins, w);
         Ok(match data.options.method {
-            Method::TwoStep => {
-                let previous = match previous {
-                    Some(Solver::TwoStep(t) | Solver::Nonlinear(t, _)) => Some(&**t),
-                    _ => None,
-                };
-                Solver::TwoStep(Box::new(TwoStep::new(
-                    system,
-                    &values,
-                    pins,
-                    w,
-                    Step1Form::ForUpdates,
-                    previous,
-                )?))
-            }
+            Method::TwoStep => Solver::TwoStep(Box::new(TwoStep::new(
+                system,
+                &values,
+                pins,
+                w,
+                Step1Form::ForUpdates,
+                previous.and_then(Solver::two_step),
+            )?)),
             Method::Nonlinear => {
                 let weng = data
                     .nonlinear
                     .as_ref()
                     .ok_or_else(|| Error::Factorization("no nonlinear system".into()))?;
-                let (previous_two_step, previous) = match previous {
-                    Some(Solver::Nonlinear(t, n)) => (Some(&**t), Some(&**n)),
-                    Some(Solver::TwoStep(t)) => (Some(&**t), None),
-                    _ => (None, None),
+                let previous_nonlinear = match previous {
+                    Some(Solver::Nonlinear(_, n)) => Some(&**n),
+                    _ => None,
                 };
-                let nonlinear = Nonlinear::new(weng, &data.mesh, pins, w, &data.options, previous)?;
+                let nonlinear = Nonlinear::new(weng, &data.mesh, pins, w, &data.options, previous_nonlinear)?;
+                let previous_two_step = previous.and_then(Solver::two_step);
                 let two_step =
                     TwoStep::new(system, &values, pins, w, Step1Form::ForUpdates, previous_two_step)?;
                 Solver::Nonlinear(Box::new(two_step), Box::new(nonlinear))
@@ -402,6 +396,14 @@ impl Solver {
                 Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
             }
         })
+    }
+
+    /// The two-step state (steps 1 and 2) of the two-step and nonlinear methods.
+    fn two_step(&self) -> Option<&TwoStep> {
+        match self {
+            Solver::TwoStep(t) | Solver::Nonlinear(t, _) => Some(t),
+            Solver::Injective(_) => None,
+        }
     }
 }
 

@@ -443,7 +443,9 @@ impl Value for f64 {
 /// A supernode's finished panel columns in groups of [`GROUP`] rows: the group `g = r / 4`
 /// of entry `(r, k)` starts at `values[PARTS·4·(g·columns + k)]` (see [`Value::pack`]).
 /// Rows past the panel's last in its last group hold whatever an earlier supernode left
-/// there: [`Product`] reads them only into lanes it does not store.
+/// there: [`Product`] reads them only into lanes it does not store. So do the groups before
+/// a kept supernode's first packed group in a refactorisation ([`Packed::set_rows`]): no
+/// product of its reads them.
 struct Packed<'a, T> {
     values: &'a mut [f64],
     /// The panel's columns (the supernode's `c`): the group's stride in columns.
