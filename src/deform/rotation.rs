@@ -73,14 +73,20 @@ pub(crate) fn add_fitted_or_held_edges(
     rotations: &[C64],
     xy: &mut [Pair],
 ) {
-    let mut next = held.iter().map(|&(k, _)| k as usize).zip(rotations).peekable();
-    for (k, s) in edges.iter().enumerate() {
-        let r = match next.next_if(|&(h, _)| h == k) {
-            Some((_, &r)) => r,
-            None => rotation(s, z1),
+    // The runs of fitted edges between held ones go through the plain loop (a test per edge
+    // for the next held one made this pass 14 % slower than `add_rotated_edges` at 3k
+    // vertices); the same edges in the same order, so the same sums.
+    let mut start = 0;
+    for (&(k, _), &r) in held.iter().zip(rotations) {
+        let k = k as usize;
+        let (Some(run), Some(s)) = (edges.get(start..k), edges.get(k)) else {
+            continue; // not after the previous held edge (never: `held` is sorted)
         };
+        add_rotated_edges(run, z1, xy);
         add_rotated_edge(s, r, xy);
+        start = k + 1;
     }
+    add_rotated_edges(edges.get(start..).unwrap_or_default(), z1, xy);
 }
 
 /// Adds each edge's rest edge turned and scaled by its similarity `similarities[k]` and
