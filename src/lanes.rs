@@ -83,6 +83,11 @@ mod imp {
                 v128_store(p, f64x2_sub(v128_load(p), self.0));
             }
         }
+        /// Whether every lane is at most `o`'s (false where either is NaN).
+        #[inline(always)]
+        pub(crate) fn all_le(self, o: F2) -> bool {
+            i64x2_all_true(f64x2_le(self.0, o.0))
+        }
         /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
         /// field written directly.
         #[inline(always)]
@@ -165,6 +170,11 @@ mod imp {
         pub(crate) fn sub_from(self, at: &mut [f64; 2]) {
             at[0] -= self.0[0];
             at[1] -= self.0[1];
+        }
+        /// Whether every lane is at most `o`'s (false where either is NaN).
+        #[inline(always)]
+        pub(crate) fn all_le(self, o: F2) -> bool {
+            self.0[0] <= o.0[0] && self.0[1] <= o.0[1]
         }
         /// `2ᵏ` per lane for lanes holding whole numbers `k` in `[−1022, 1023]`: the exponent
         /// field written directly.

@@ -32,8 +32,29 @@ pub(crate) const EXP_LIMIT: f64 = 708.0;
 /// into the exponent.
 #[inline(always)]
 pub(crate) fn exp<L: Lanes>(x: L) -> L {
-    const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-    const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+    let limit = L::splat(EXP_LIMIT);
+    let x = -((-x.min(limit)).min(limit));
+    let k = round(x * LOG2_E);
+    let hi = x - k * LN2_HI;
+    let lo = k * LN2_LO;
+    // 2ᵏ, k in [−1022, 1022] after the clamp: a normal number.
+    exp_reduced(hi, lo) * k.exp2_int()
+}
+
+/// The largest `x²` for which [`exp_small`] applies: `|x| ≤ 0.3464 < ½ ln 2`, so that
+/// `x · log₂e` rounds to `k = 0` in [`exp`].
+pub(crate) const EXP_SMALL_X2: f64 = 0.12;
+
+/// [`exp`] of lanes with `x² ≤` [`EXP_SMALL_X2`], bit for bit, without the range
+/// reduction: there `k = 0`, so `hi = x`, `lo = 0` and `2ᵏ = 1` exactly.
+#[inline(always)]
+pub(crate) fn exp_small<L: Lanes>(x: L) -> L {
+    exp_reduced(x, L::splat(0.0))
+}
+
+/// `eʳ` for `r = hi − lo` (fdlibm's rational form, keeping `lo` apart).
+#[inline(always)]
+fn exp_reduced<L: Lanes>(hi: L, lo: L) -> L {
     const P: [f64; 5] = [
         1.666_666_666_666_660_190_37e-1,
         -2.777_777_777_701_559_338_42e-3,
@@ -41,20 +62,17 @@ pub(crate) fn exp<L: Lanes>(x: L) -> L {
         -1.653_390_220_546_525_153_90e-6,
         4.138_136_797_057_238_460_39e-8,
     ];
-    let limit = L::splat(EXP_LIMIT);
-    let x = -((-x.min(limit)).min(limit));
-    let k = round(x * LOG2_E);
-    let hi = x - k * LN2_HI;
-    let lo = k * LN2_LO;
     let r = hi - lo;
     let z = r * r;
     let poly = L::splat(P[0]) + z * (L::splat(P[1]) + z * (L::splat(P[2]) + z * (L::splat(P[3]) + z * P[4])));
     let c = r - z * poly;
     let one = L::splat(1.0);
-    let er = one - ((lo - (r * c) / (L::splat(2.0) - c)) - hi);
-    // 2ᵏ, k in [−1022, 1022] after the clamp: a normal number.
-    er * k.exp2_int()
+    one - ((lo - (r * c) / (L::splat(2.0) - c)) - hi)
 }
+
+/// `ln 2` as fdlibm's head (exact times any `k` of [`exp`]) and tail.
+const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
+const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
 
 /// `(sin x, cos x)` per lane: `x = k π/2 + r` with `|r| ≤ π/4` (π/2 as fdlibm's 33-bit head
 /// and its tail, so that `k · head` is exact and `r` is right to round-off for `|k| < 2²⁰`,
@@ -64,6 +82,36 @@ pub(crate) fn exp<L: Lanes>(x: L) -> L {
 pub(crate) fn sin_cos<L: Lanes>(x: L) -> (L, L) {
     const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
     const PIO2_1T: f64 = 6.077_100_506_506_192_249_32e-11;
+    let k = round(x * FRAC_2_PI);
+    let r = (x - k * PIO2_1) - k * PIO2_1T;
+    let (sin, cos) = sin_cos_kernels(r);
+    // The quadrant: with q = k mod 4 in [−2, 2], C = cos(qπ/2) = 1 − |q| and S = sin(qπ/2)
+    // = q(2 − |q|), each 0 or ±1, so sin x = s C + c S and cos x = c C − s S are exact
+    // selections (one term of each sum is a signed zero), in lane arithmetic.
+    let one = L::splat(1.0);
+    let q = k - round(k * 0.25) * 4.0;
+    let a = q.abs();
+    let (cq, sq) = (one - a, q * (L::splat(2.0) - a));
+    (sin * cq + cos * sq, cos * cq - sin * sq)
+}
+
+/// The largest `x²` for which [`sin_cos_small`] applies: `|x| ≤ 0.7746 < π/4`, so that
+/// `x · 2/π` rounds to `k = 0` in [`sin_cos`].
+pub(crate) const SIN_COS_SMALL_X2: f64 = 0.6;
+
+/// [`sin_cos`] of lanes with `x² ≤` [`SIN_COS_SMALL_X2`], bit for bit, without the range
+/// reduction and the quadrant: there `k = 0`, so `r = x`, and the quadrant's selection
+/// gives `(s · 1 + c · 0, c · 1 − s · 0)` = `(s + 0, c)` (`c ≥ cos(π/4)` is positive, and
+/// the `+ 0` turns a `−0` sine into `+0` as the selection does).
+#[inline(always)]
+pub(crate) fn sin_cos_small<L: Lanes>(x: L) -> (L, L) {
+    let (sin, cos) = sin_cos_kernels(x);
+    (sin + L::splat(0.0), cos)
+}
+
+/// fdlibm's kernels `(sin r, cos r)` for `|r| ≤ π/4`.
+#[inline(always)]
+fn sin_cos_kernels<L: Lanes>(r: L) -> (L, L) {
     const S: [f64; 6] = [
         -1.666_666_666_666_663_243_48e-1,
         8.333_333_333_322_489_461_24e-3,
@@ -80,8 +128,6 @@ pub(crate) fn sin_cos<L: Lanes>(x: L) -> (L, L) {
         2.087_572_321_298_174_827_90e-9,
         -1.135_964_755_778_819_482_65e-11,
     ];
-    let k = round(x * FRAC_2_PI);
-    let r = (x - k * PIO2_1) - k * PIO2_1T;
     let z = r * r;
     let sp = L::splat(S[1]) + z * (L::splat(S[2]) + z * (L::splat(S[3]) + z * (L::splat(S[4]) + z * S[5])));
     let sin = r + r * z * (L::splat(S[0]) + z * sp);
@@ -93,13 +139,7 @@ pub(crate) fn sin_cos<L: Lanes>(x: L) -> (L, L) {
     let one = L::splat(1.0);
     let w = one - hz;
     let cos = w + (((one - w) - hz) + z * cp);
-    // The quadrant: with q = k mod 4 in [−2, 2], C = cos(qπ/2) = 1 − |q| and S = sin(qπ/2)
-    // = q(2 − |q|), each 0 or ±1, so sin x = s C + c S and cos x = c C − s S are exact
-    // selections (one term of each sum is a signed zero), in lane arithmetic.
-    let q = k - round(k * 0.25) * 4.0;
-    let a = q.abs();
-    let (cq, sq) = (one - a, q * (L::splat(2.0) - a));
-    (sin * cq + cos * sq, cos * cq - sin * sq)
+    (sin, cos)
 }
 
 #[cfg(test)]
@@ -153,5 +193,30 @@ mod tests {
         assert!(s.lanes()[1].abs() < 1e-15 && c.lanes()[1] == -1.0);
         let (s, c) = sin_cos(F4::splat(1e12));
         assert!(s.lanes()[0].abs() <= 1.0 && c.lanes()[0].abs() <= 1.0);
+    }
+
+    #[test]
+    fn the_small_argument_paths_give_the_bits_of_the_general_ones() {
+        // Up to each threshold and exactly at it, both signs and both zeros; the thresholds
+        // themselves must lie where the general path's k is 0.
+        let (e, s) = (EXP_SMALL_X2.sqrt(), SIN_COS_SMALL_X2.sqrt());
+        assert!((e * LOG2_E) < 0.5 && (s * FRAC_2_PI) < 0.5);
+        let bits = |x: F4| x.lanes().map(f64::to_bits);
+        for k in 0..=4000 {
+            for (limit, x2) in [(e, EXP_SMALL_X2), (s, SIN_COS_SMALL_X2)] {
+                let mut t = limit * k as f64 / 4000.0;
+                while t * t > x2 {
+                    t = f64::from_bits(t.to_bits() - 1); // the last step lands on the largest t
+                }
+                let x = F4::from([t, -t, 0.37 * t, -0.0]);
+                assert!((x * x).all_le(x2));
+                if x2 == EXP_SMALL_X2 {
+                    assert_eq!(bits(exp_small(x)), bits(exp(x)), "exp at {t}");
+                } else {
+                    let ((a, b), (c, d)) = (sin_cos_small(x), sin_cos(x));
+                    assert_eq!((bits(a), bits(b)), (bits(c), bits(d)), "sin_cos at {t}");
+                }
+            }
+        }
     }
 }

@@ -6,7 +6,7 @@
 //! functions of [`super::elementary`]; only the poses with a non-zero weight are read.
 //! Allocates nothing.
 
-use super::elementary::{exp, sin_cos};
+use super::elementary::{exp, exp_small, sin_cos, sin_cos_small, EXP_SMALL_X2, SIN_COS_SMALL_X2};
 use super::quad::{Lanes, F4};
 use super::stitch::Stitch;
 use super::store::Store;
@@ -51,14 +51,16 @@ fn cosh_sinhc<L: Lanes>(u: L) -> (L, L) {
 /// most [`SERIES_RHO2`], `cosh ρ` and `sinh ρ / ρ` come from their series in `ρ²` (one
 /// exponential, no square root, no division); otherwise from `e^{h ± ρ}`, the slope
 /// `(e^{h+ρ} − e^{h−ρ})/(2ρ)` multiplying `L − hI`, whose size is `ρ`, so that its round-off
-/// stays that of `e^h` (at `ρ = 0` it multiplies zero; the 1e-300 avoids 0/0).
+/// stays that of `e^h` (at `ρ = 0` it multiplies zero; the 1e-300 avoids 0/0). When every
+/// lane's `h` (or `θ`) is near zero, `e^h` (or `sin θ`, `cos θ`) skips the range reduction,
+/// for the same bits ([`exp_small`], [`sin_cos_small`]): most triangles of most blends.
 #[inline(always)]
 fn blended_map(theta: F4, l11: F4, l12: F4, l22: F4) -> ([F4; 4], [F4; 3]) {
     let h = (l11 + l22) * 0.5;
     let e = (l11 - l22) * 0.5;
     let u = e * e + l12 * l12;
-    let (mean, slope) = if u.lanes().iter().all(|&x| x <= SERIES_RHO2) {
-        let eh = exp(h);
+    let (mean, slope) = if u.all_le(SERIES_RHO2) {
+        let eh = if (h * h).all_le(EXP_SMALL_X2) { exp_small(h) } else { exp(h) };
         let (ch, sh) = cosh_sinhc(u);
         (eh * ch, eh * sh)
     } else {
@@ -67,7 +69,7 @@ fn blended_map(theta: F4, l11: F4, l12: F4, l22: F4) -> ([F4; 4], [F4; 3]) {
         ((big + small) * 0.5, (big - small) / (rho * 2.0 + F4::splat(1e-300)))
     };
     let (e11, e12, e22) = (mean + slope * e, slope * l12, mean - slope * e);
-    let (s, c) = sin_cos(theta);
+    let (s, c) = if (theta * theta).all_le(SIN_COS_SMALL_X2) { sin_cos_small(theta) } else { sin_cos(theta) };
     ([c * e11 - s * e12, c * e12 - s * e22, s * e11 + c * e12, s * e12 + c * e22], [e11, e12, e22])
 }
 

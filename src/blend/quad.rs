@@ -92,6 +92,13 @@ impl F4 {
         [self.0, self.1]
     }
 
+    /// Whether every lane is at most `limit` (false where a lane is NaN).
+    #[inline(always)]
+    pub(crate) fn all_le(self, limit: f64) -> bool {
+        let limit = F2::splat(limit);
+        self.0.all_le(limit) && self.1.all_le(limit)
+    }
+
     /// The four lanes.
     #[inline(always)]
     pub(crate) fn lanes(self) -> [f64; 4] {
