@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{fault, fault_at, DocumentFault};
-use crate::error::Result;
+use crate::error::{Quoted, Result};
 
 /// The `format` of every puppet document.
 pub const FORMAT: &str = "bunraku-puppet";
@@ -293,11 +293,11 @@ pub(crate) fn check_header(format: Option<&str>, version: Option<f64>) -> Result
     match format {
         Some(FORMAT) => {}
         Some(other) => {
-            let reason = format!("{other:?} is not {FORMAT:?}");
+            let reason = format!("{} is not {}", Quoted(other), Quoted(FORMAT));
             return Err(fault(DocumentFault::Structure, "format".into(), reason));
         }
         None => {
-            let reason = format!("is missing (a puppet document has \"format\": {FORMAT:?})");
+            let reason = format!("is missing (a puppet document has \"format\": {})", Quoted(FORMAT));
             return Err(fault(DocumentFault::Structure, "format".into(), reason));
         }
     }

@@ -9,7 +9,7 @@ use super::{Track, TrackOptions};
 use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
 use crate::deform::PoseState;
 use crate::deform::{Method, Overlap, Starch};
-use crate::error::{Error, Result};
+use crate::error::{Error, Quoted, Result};
 use crate::meshing::ShapeMesh;
 use crate::{EdgeWeights, Handle, Mesh, Options, Pin, Pinned, Rest, Rotation};
 
@@ -153,11 +153,11 @@ impl Player {
             (Some("weights"), _, Some(_)) | (None, None, Some(_)) => Mode::Weights,
             (None, None, None) => Mode::Still,
             (Some(p @ ("track" | "weights")), _, _) => {
-                let reason = format!("is {p:?}, but the document has no {p}");
+                let reason = format!("is {}, but the document has no {p}", Quoted(p));
                 return Err(fault(DocumentFault::Structure, "play".into(), reason));
             }
             (Some(p), _, _) => {
-                let reason = format!("{p:?} is not \"track\" or \"weights\"");
+                let reason = format!("{} is not \"track\" or \"weights\"", Quoted(p));
                 return Err(fault(DocumentFault::Structure, "play".into(), reason));
             }
         };
@@ -399,11 +399,11 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
         check_len("pins.kinds", kinds.len(), n)?;
         for (i, (pin, name)) in pins.iter_mut().zip(kinds).enumerate() {
             let kind = parse_kind(name).ok_or_else(|| {
-                let reason = format!("{name:?} is not \"position\", \"bend\" or \"advanced\"");
+                let reason = format!("{} is not \"position\", \"bend\" or \"advanced\"", Quoted(name));
                 fault(DocumentFault::Structure, format!("pins.kinds[{i}]"), reason)
             })?;
             if json.kinds.is_some() && kind != pin.kind {
-                let reason = format!("{name:?} is not the track's kind of pin {i}");
+                let reason = format!("{} is not the track's kind of pin {i}", Quoted(name));
                 return Err(fault(DocumentFault::Structure, format!("pins.kinds[{i}]"), reason));
             }
             pin.kind = kind;
@@ -452,7 +452,7 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
 fn register_options(p: Option<&PuppetJson>) -> Result<Options> {
     let mut o = Options::default();
     let bad = |field: &str, name: &str, known: &str| {
-        fault(DocumentFault::Structure, format!("puppet.{field}"), format!("{name:?} is not {known}"))
+        fault(DocumentFault::Structure, format!("puppet.{field}"), format!("{} is not {known}", Quoted(name)))
     };
     if let Some(p) = p {
         if let Some(m) = &p.method {
@@ -504,7 +504,7 @@ fn blend(mesh: &Mesh, d: &Document, json: &WeightsJson) -> Result<Blended> {
             None | Some("reject") => Flipped::Reject,
             Some("clamp") => Flipped::Clamp,
             Some(f) => {
-                let reason = format!("{f:?} is not \"reject\" or \"clamp\"");
+                let reason = format!("{} is not \"reject\" or \"clamp\"", Quoted(f));
                 return Err(fault(DocumentFault::Structure, format!("{field}.flipped"), reason));
             }
         };

@@ -2,7 +2,7 @@
 //! at any frame rate by linear interpolation between the samples.
 
 use super::{check_times, lerp, segment, DocumentFault, TrackJson};
-use crate::error::{check_finite, Error, Result};
+use crate::error::{check_finite, Error, Quoted, Result};
 use crate::limits::MAX_COORDINATE;
 use crate::{PinKind, Rotation};
 
@@ -306,7 +306,7 @@ impl Track {
                             super::fault(
                                 DocumentFault::Structure,
                                 format!("{path}.kinds[{i}]"),
-                                format!("{name:?} is not \"position\", \"bend\" or \"advanced\""),
+                                format!("{} is not \"position\", \"bend\" or \"advanced\"", Quoted(name)),
                             )
                         })
                     })

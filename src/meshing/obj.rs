@@ -8,7 +8,7 @@
 //! # Ok::<(), bunraku::Error>(())
 //! ```
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Quoted, Result};
 use crate::mesh::Mesh;
 use crate::meshing::shape::{box_uvs, ShapeMesh};
 use crate::surface::Surface;
@@ -259,7 +259,7 @@ fn parse(text: &str) -> Result<Parsed> {
         let mut tokens = content.split_whitespace();
         let Some(keyword) = tokens.next() else { continue };
         let number = |t: &str, what: &str| -> Result<f64> {
-            let v = parse_number(t).ok_or_else(|| bad(format!("{what}: {t:?} is not a number")))?;
+            let v = parse_number(t).ok_or_else(|| bad(format!("{what}: {} is not a number", Quoted(t))))?;
             if !v.is_finite() {
                 return Err(bad(format!("{what}: {t} is not finite")));
             }
@@ -305,19 +305,26 @@ fn parse(text: &str) -> Result<Parsed> {
                     let resolve = |part: Option<&str>, count: usize, what: &str| -> Result<Option<u32>> {
                         let Some(p) = part.filter(|p| !p.is_empty()) else { return Ok(None) };
                         let i: i64 = p.parse().map_err(|_| {
-                            bad(format!("corner {} ({token:?}): {what} index {p:?} is not an integer", c + 1))
+                            bad(format!(
+                                "corner {} ({}): {what} index {} is not an integer",
+                                c + 1,
+                                Quoted(token),
+                                Quoted(p)
+                            ))
                         })?;
                         let resolved = if i > 0 { i - 1 } else { count as i64 + i };
                         if i == 0 || resolved < 0 || resolved >= count as i64 {
                             return Err(bad(format!(
-                                "corner {} ({token:?}): {what} index {i} is out of range (there are {count} so far)",
-                                c + 1
+                                "corner {} ({}): {what} index {i} is out of range (there are {count} so far)",
+                                c + 1,
+                                Quoted(token)
                             )));
                         }
                         Ok(Some(resolved as u32))
                     };
-                    let v = resolve(parts.next(), positions.len(), "vertex")?
-                        .ok_or_else(|| bad(format!("corner {} ({token:?}) has no vertex index", c + 1)))?;
+                    let v = resolve(parts.next(), positions.len(), "vertex")?.ok_or_else(|| {
+                        bad(format!("corner {} ({}) has no vertex index", c + 1, Quoted(token)))
+                    })?;
                     let vt = resolve(parts.next(), texcoords.len(), "texture")?;
                     corners.push((v, vt));
                 }

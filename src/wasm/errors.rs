@@ -12,7 +12,7 @@
 use js_sys::Reflect;
 use wasm_bindgen::prelude::*;
 
-use crate::error::Vocabulary;
+use crate::error::{Quoted, Vocabulary};
 use crate::Error;
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -279,9 +279,12 @@ pub(crate) fn wrong_option_type(option: &str, expected: &str, value: &JsValue) -
 /// `options: unknown option "spacng" (known: spacing, minAngle, maxVertices)`.
 pub(crate) fn unknown_option(key: &JsValue, value: &JsValue, known: &[&str]) -> Thrown {
     let key = key.as_string().unwrap_or_default();
-    Thrown::new("bad-option", &format!("options: unknown option {key:?} (known: {})", known.join(", ")))
-        .with("option", key)
-        .with("value", value.clone())
+    Thrown::new(
+        "bad-option",
+        &format!("options: unknown option {} (known: {})", Quoted(&key), known.join(", ")),
+    )
+    .with("option", key)
+    .with("value", value.clone())
 }
 
 /// A JS value for messages: numbers as JS prints them, strings quoted, anything else by its
@@ -290,7 +293,7 @@ pub(crate) fn describe(value: &JsValue) -> String {
     if let Some(x) = value.as_f64() {
         number(x)
     } else if let Some(s) = value.as_string() {
-        format!("{s:?}")
+        Quoted(&s).to_string()
     } else {
         type_name(value)
     }

@@ -7,6 +7,7 @@ use wasm_bindgen::prelude::*;
 use super::errors::{bad_type, describe};
 use super::options::{image_options, outline_options};
 use super::{flat, items, read_items, rgba_bytes, set, string, typed, Thrown};
+use crate::error::Quoted;
 use crate::meshing::{mesh_image, read_obj, shape_from_outline, ShapeMesh};
 use crate::Error;
 
@@ -115,7 +116,8 @@ impl JsMesh {
             if !["vertices", "triangles", "uvs", "boundary"].iter().any(|k| key == *k) {
                 let key = key.as_string().unwrap_or_default();
                 return Err(bad(format!(
-                    "unknown field {key:?} (known: vertices, triangles, uvs, boundary)"
+                    "unknown field {} (known: vertices, triangles, uvs, boundary)",
+                    Quoted(&key)
                 )));
             }
         }
