@@ -260,6 +260,18 @@ pub enum Error {
     },
     /// A [`crate::animation::Track`] with no sample was sampled.
     EmptyTrack,
+    /// A simulation mesh that does not carry its rendered mesh
+    /// ([`crate::simulation::Simulation::new`]): a parent out of range, weights that do not
+    /// sum to 1, a vertex the simulation does not put at its rest position, or a rendered
+    /// triangle not nested in one simulation triangle. Code `"bad-simulation"`.
+    BadSimulation {
+        /// What is at fault: `"parent"`, `"weights"` or `"triangles"` (a rendered triangle).
+        what: &'static str,
+        /// The rendered vertex (or triangle) at fault.
+        index: usize,
+        /// Why.
+        reason: String,
+    },
     /// A puppet document or a track's JSON that cannot be read or played
     /// ([`crate::animation`]); its code follows the fault: `"bad-document"`,
     /// `"bad-version"`, `"bad-length"` or `"non-finite"`.
@@ -345,7 +357,8 @@ impl Error {
     /// `"overlapping-pins"`,
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
     /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
-    /// `"bad-pose"`, `"bad-time"`, `"empty-track"`, `"bad-document"`, `"bad-version"`. A
+    /// `"bad-pose"`, `"bad-time"`, `"empty-track"`, `"bad-document"`, `"bad-version"`,
+    /// `"bad-simulation"`. A
     /// wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"` too; a bad blend
     /// weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`; a bad document's
     /// code follows its [`crate::animation::DocumentFault`].
@@ -383,6 +396,7 @@ impl Error {
             Error::BadWeight { .. } => "too-large",
             Error::BadTime { .. } => "bad-time",
             Error::EmptyTrack => "empty-track",
+            Error::BadSimulation { .. } => "bad-simulation",
             Error::BadDocument { fault, .. } => match fault {
                 crate::animation::DocumentFault::Structure => "bad-document",
                 crate::animation::DocumentFault::Version => "bad-version",
@@ -495,6 +509,7 @@ impl Error {
             }
             Error::BadTime { time, reason } => format!("time {} {reason}", n(*time)),
             Error::EmptyTrack => "the track has no sample".to_string(),
+            Error::BadSimulation { what, index, reason } => format!("simulation.{what}[{index}]: {reason}"),
             Error::BadDocument { field, value, reason, .. } => {
                 let value = value.map(|x| format!("{} ", n(x))).unwrap_or_default();
                 let field = if field.is_empty() { String::new() } else { format!("{field}: ") };

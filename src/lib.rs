@@ -63,6 +63,7 @@ pub mod meshing;
 pub mod quality;
 pub mod render;
 mod segments;
+pub mod simulation;
 mod solver;
 mod sort;
 pub mod surface;

@@ -190,20 +190,27 @@ pub(crate) fn resolve_handle(rest: &RestData, k: usize, handle: &Handle) -> Resu
             Ok(Location { triangle: t as u32, weights })
         }
         Handle::Barycentric { triangle, weights } => {
-            let t = mesh.triangles().len();
-            if triangle as usize >= t {
-                return Err(bad(format!("triangle {triangle} is out of range (there are {t} triangles)")));
-            }
-            if weights.iter().any(|w| !w.is_finite()) {
-                return Err(bad(format!("barycentric weights {weights:?} are not finite")));
-            }
-            let sum: f64 = weights.iter().sum();
-            if weights.iter().any(|&w| w < -1e-12) || (sum - 1.0).abs() > 1e-9 {
-                return Err(bad(format!(
-                    "barycentric weights {weights:?} must be non-negative and sum to 1 (they sum to {sum})"
-                )));
-            }
-            Ok(Location { triangle, weights: weights.map(|w| w.max(0.0) / sum) })
+            check_barycentric(k, triangle, weights, mesh.triangles().len())
         }
     }
+}
+
+/// Checks handle `k`'s barycentric weights in `triangle` of a mesh of `t` triangles: the
+/// triangle in range, the weights finite, non-negative and summing to 1 (to 10⁻⁹).
+/// Errors: [`Error::BadHandle`].
+pub(crate) fn check_barycentric(k: usize, triangle: u32, weights: [f64; 3], t: usize) -> Result<Location> {
+    let bad = |reason: String| Error::BadHandle { handle: k, reason };
+    if triangle as usize >= t {
+        return Err(bad(format!("triangle {triangle} is out of range (there are {t} triangles)")));
+    }
+    if weights.iter().any(|w| !w.is_finite()) {
+        return Err(bad(format!("barycentric weights {weights:?} are not finite")));
+    }
+    let sum: f64 = weights.iter().sum();
+    if weights.iter().any(|&w| w < -1e-12) || (sum - 1.0).abs() > 1e-9 {
+        return Err(bad(format!(
+            "barycentric weights {weights:?} must be non-negative and sum to 1 (they sum to {sum})"
+        )));
+    }
+    Ok(Location { triangle, weights: weights.map(|w| w.max(0.0) / sum) })
 }

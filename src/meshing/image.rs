@@ -31,6 +31,7 @@ use std::ops::ControlFlow;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::meshing::nested::{factor_for, nested_mesh};
 use crate::meshing::outline::{
     estimate_vertices, inside, mesh_outline, OutlineOptions, DEFAULT_MIN_ANGLE_DEG, MAX_MIN_ANGLE_DEG,
 };
@@ -81,6 +82,13 @@ pub struct ImageOptions {
     /// Opaque regions with fewer pixels than this are dropped as specks, and holes with a
     /// smaller area are filled. Default 16; must be finite and non-negative.
     pub min_area: f64,
+    /// The simulation mesh's target size, in vertices ([`crate::simulation`]): `None` (the
+    /// default) gives one of about [`crate::meshing::DEFAULT_SIMULATION_VERTICES`] when the
+    /// rendered mesh would have more than [`crate::meshing::AUTO_SIMULATION_THRESHOLD`] vertices; `Some(0)` never gives
+    /// one; `Some(n)` gives one of about `n` vertices whenever the rendered mesh has at
+    /// least about `2.25 n` (a refinement factor of 2 or more). The rendered mesh keeps
+    /// following `spacing` and `max_vertices`.
+    pub simulation_vertices: Option<usize>,
 }
 
 impl Default for ImageOptions {
@@ -93,6 +101,7 @@ impl Default for ImageOptions {
             min_angle_deg: DEFAULT_MIN_ANGLE_DEG,
             simplify: DEFAULT_SIMPLIFY,
             min_area: DEFAULT_MIN_AREA,
+            simulation_vertices: None,
         }
     }
 }
@@ -225,10 +234,17 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
         }
         spacing = spacing.max(spacing_for(total_area, perimeter, points, budget));
     }
+    let estimate = estimate_vertices(total_area, perimeter, spacing) + points as f64;
+    if let Some(k) = factor_for(estimate, options.simulation_vertices) {
+        if let Some(shape) = nested_picture(&simplified, &components, spacing, k, options, w, h)? {
+            return Ok(shape);
+        }
+    }
     let outline_options = |spacing: f64| OutlineOptions {
         spacing: Some(spacing),
         min_angle_deg: options.min_angle_deg,
         max_vertices: None,
+        simulation_vertices: Some(0),
     };
     let mut attempt = 0;
     let meshes = loop {
@@ -277,11 +293,36 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
     } else {
         Mesh::new(vertices, triangles)?
     };
-    // Vertices new to the outline may sit a rounding error (~10⁻¹³ px) beyond the picture's
-    // edge; texture coordinates stay in [0, 1].
-    let uv = |x: f64, size: usize| ((x / size as f64) as f32).clamp(0.0, 1.0);
-    let uvs = mesh.vertices().iter().map(|p| [uv(p[0], w), uv(p[1], h)]).collect();
+    let uvs = picture_uvs(&mesh, w, h);
     ShapeMesh::new(mesh, uvs)
+}
+
+/// Texture coordinates `(x / width, y / height)`: vertices new to the outline may sit a
+/// rounding error (~10⁻¹³ px) beyond the picture's edge; texture coordinates stay in
+/// [0, 1].
+fn picture_uvs(mesh: &Mesh, w: usize, h: usize) -> Vec<[f32; 2]> {
+    let uv = |x: f64, size: usize| ((x / size as f64) as f32).clamp(0.0, 1.0);
+    mesh.vertices().iter().map(|p| [uv(p[0], w), uv(p[1], h)]).collect()
+}
+
+/// The picture's shape nested `k × k` in a simulation mesh; `None` when the budget
+/// `max_vertices` cannot be met that way.
+fn nested_picture(
+    loops: &[Vec<[f64; 2]>],
+    components: &[(usize, Vec<usize>)],
+    spacing: f64,
+    k: u32,
+    options: &ImageOptions,
+    w: usize,
+    h: usize,
+) -> Result<Option<ShapeMesh>> {
+    let Some((mesh, simulation)) =
+        nested_mesh(loops, components, spacing, k, options.min_angle_deg, options.max_vertices)?
+    else {
+        return Ok(None);
+    };
+    let uvs = picture_uvs(&mesh, w, h);
+    Ok(Some(ShapeMesh::new(mesh, uvs)?.with_simulation(simulation)))
 }
 
 /// The spacing at which `1.8·A/s² + P/s + n₀ = target` (see [`estimate_vertices`]).
@@ -686,7 +727,8 @@ fn scan_row(
 
 /// Shoelace area: positive for counter-clockwise loops (in the coordinates as numbers).
 #[inline(never)]
-fn area(l: &[[f64; 2]]) -> f64 {
+/// The signed area of a closed loop (positive counter-clockwise).
+pub(crate) fn area(l: &[[f64; 2]]) -> f64 {
     let n = l.len();
     let mut s = 0.0;
     for k in 0..n {
@@ -696,7 +738,8 @@ fn area(l: &[[f64; 2]]) -> f64 {
     s / 2.0
 }
 
-fn perimeter(l: &[[f64; 2]]) -> f64 {
+/// The length of a closed loop.
+pub(crate) fn perimeter(l: &[[f64; 2]]) -> f64 {
     let n = l.len();
     (0..n).map(|k| (l[(k + 1) % n][0] - l[k][0]).hypot(l[(k + 1) % n][1] - l[k][1])).sum()
 }
@@ -749,7 +792,7 @@ fn douglas_peucker(l: &[[f64; 2]], tolerance: f64) -> Vec<[f64; 2]> {
 /// Simplifies every loop, then halves the tolerance of loops involved in a crossing (or
 /// touching) until none is left; after a few rounds such loops keep every traced point
 /// (traced loops never cross).
-fn simplify_all(loops: &[Vec<[f64; 2]>], tolerance: f64) -> Vec<Vec<[f64; 2]>> {
+pub(crate) fn simplify_all(loops: &[Vec<[f64; 2]>], tolerance: f64) -> Vec<Vec<[f64; 2]>> {
     let mut tol = vec![tolerance; loops.len()];
     let mut out: Vec<Vec<[f64; 2]>> = loops.iter().map(|l| douglas_peucker(l, tolerance)).collect();
     for round in 0..6 {

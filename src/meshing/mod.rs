@@ -12,11 +12,13 @@
 //! [`star`] and [`test_character`] make test shapes.
 
 pub mod image;
+pub(crate) mod nested;
 pub mod obj;
 pub mod outline;
 pub mod shape;
 
 pub use image::{mesh_image, test_character, ImageOptions};
+pub use nested::{AUTO_SIMULATION_THRESHOLD, COARSE_TOLERANCE, DEFAULT_SIMULATION_VERTICES};
 pub use obj::{read_obj, read_obj_surface};
 pub use outline::{estimate_vertices, mesh_outline, spacing_for_vertices, star, OutlineOptions};
 pub use shape::{boundary_loops, shape_from_outline, ShapeMesh};

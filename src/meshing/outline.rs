@@ -81,11 +81,23 @@ pub struct OutlineOptions {
     /// mesh needs more vertices to meet the angle bound, refinement stops at the budget).
     /// Must be at least the number of distinct outline points. Default `None`: no budget.
     pub max_vertices: Option<usize>,
+    /// The simulation mesh's target size, in vertices, for [`shape_from_outline`](crate::meshing::shape_from_outline)
+    /// ([`crate::simulation`]; [`mesh_outline`] itself ignores it): `None` (the default)
+    /// gives one of about [`crate::meshing::DEFAULT_SIMULATION_VERTICES`] when the mesh
+    /// would have more than [`crate::meshing::AUTO_SIMULATION_THRESHOLD`] vertices;
+    /// `Some(0)` never gives one; `Some(n)` one of about `n` vertices whenever the mesh has
+    /// at least about `2.25 n`. `spacing` and `max_vertices` keep meaning the rendered mesh.
+    pub simulation_vertices: Option<usize>,
 }
 
 impl Default for OutlineOptions {
     fn default() -> Self {
-        OutlineOptions { spacing: None, min_angle_deg: DEFAULT_MIN_ANGLE_DEG, max_vertices: None }
+        OutlineOptions {
+            spacing: None,
+            min_angle_deg: DEFAULT_MIN_ANGLE_DEG,
+            max_vertices: None,
+            simulation_vertices: None,
+        }
     }
 }
 
@@ -104,6 +116,12 @@ impl OutlineOptions {
     /// Sets [`OutlineOptions::min_angle_deg`] (degrees, in `(0, 33]`).
     pub fn with_min_angle_deg(mut self, degrees: f64) -> Self {
         self.min_angle_deg = degrees;
+        self
+    }
+
+    /// Sets [`OutlineOptions::simulation_vertices`].
+    pub fn with_simulation_vertices(mut self, simulation_vertices: usize) -> Self {
+        self.simulation_vertices = Some(simulation_vertices);
         self
     }
 
@@ -597,7 +615,7 @@ fn check_holes(rings: &[Ring]) -> Result<()> {
 
 /// The spacing (normalised units) at which the estimated vertex count meets `budget`:
 /// solves `α·A·u² + β·P·u + n₀ = budget` for `u = 1/s`.
-fn spacing_for_budget(area: f64, perimeter: f64, outline_points: usize, budget: usize) -> f64 {
+pub(crate) fn spacing_for_budget(area: f64, perimeter: f64, outline_points: usize, budget: usize) -> f64 {
     let room = (budget - outline_points) as f64;
     let (a, b) = (INTERIOR_DENSITY * area, BOUNDARY_DENSITY * perimeter);
     if room <= 0.0 {

@@ -8,7 +8,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::geometry::bounds;
 use crate::mesh::Mesh;
+use crate::meshing::nested::nested_outline;
 use crate::meshing::outline::{mesh_outline, OutlineOptions};
+use crate::simulation::Simulation;
 
 /// A mesh ready to register, with what a renderer needs around it.
 ///
@@ -26,6 +28,7 @@ pub struct ShapeMesh {
     mesh: Mesh,
     uvs: Vec<[f32; 2]>,
     boundary: Vec<Vec<u32>>,
+    simulation: Option<Simulation>,
 }
 
 impl ShapeMesh {
@@ -43,7 +46,7 @@ impl ShapeMesh {
         }
         crate::error::check_finite("uvs", &uvs)?;
         let boundary = boundary_loops(&mesh);
-        Ok(ShapeMesh { mesh, uvs, boundary })
+        Ok(ShapeMesh { mesh, uvs, boundary, simulation: None })
     }
 
     /// Wraps a mesh with texture coordinates normalised by its bounding box (see
@@ -51,7 +54,7 @@ impl ShapeMesh {
     pub fn with_box_uvs(mesh: Mesh) -> ShapeMesh {
         let uvs = box_uvs(mesh.vertices());
         let boundary = boundary_loops(&mesh);
-        ShapeMesh { mesh, uvs, boundary }
+        ShapeMesh { mesh, uvs, boundary, simulation: None }
     }
 
     /// The triangle mesh.
@@ -67,6 +70,47 @@ impl ShapeMesh {
     /// The boundary loops, as vertex indices (see the type's docs for their orientation).
     pub fn boundary(&self) -> &[Vec<u32>] {
         &self.boundary
+    }
+
+    /// The simulation mesh this (rendered) mesh is nested in, when it has one
+    /// ([`crate::simulation`]).
+    pub fn simulation(&self) -> Option<&Simulation> {
+        self.simulation.as_ref()
+    }
+
+    /// The same shape carried by `simulation`, which must have been validated against this
+    /// mesh ([`Simulation::new`]); replaces any earlier one.
+    pub fn with_simulation(self, simulation: Simulation) -> ShapeMesh {
+        ShapeMesh { simulation: Some(simulation), ..self }
+    }
+
+    /// The shape refined `k × k` ([`crate::simulation::refine::refine`]), its texture
+    /// coordinates interpolated, nested in this mesh as its simulation mesh (a mesh that
+    /// already has a simulation mesh is refined as it is, and nested in it).
+    ///
+    /// Errors: those of [`crate::simulation::refine::refine`].
+    pub fn refine(&self, k: u32) -> Result<ShapeMesh> {
+        let (rendered, simulation) = crate::simulation::refine::refine(&self.mesh, k)?;
+        let uvs = simulation
+            .parent()
+            .iter()
+            .zip(simulation.weights())
+            .map(|(&p, w)| {
+                let t = self.mesh.triangles()[p as usize];
+                let mut uv = [0.0f64; 2];
+                for (&v, &wk) in t.iter().zip(w) {
+                    for c in 0..2 {
+                        uv[c] += wk * self.uvs[v as usize][c] as f64;
+                    }
+                }
+                uv.map(|x| x as f32)
+            })
+            .collect();
+        let simulation = match &self.simulation {
+            None => simulation,
+            Some(outer) => outer.compose(&simulation, &rendered)?,
+        };
+        Ok(ShapeMesh::new(rendered, uvs)?.with_simulation(simulation))
     }
 
     /// The mesh alone, e.g. for [`Rest::register`](crate::Rest::register).
@@ -192,5 +236,28 @@ pub fn shape_from_outline(
     holes: &[Vec<[f64; 2]>],
     options: &OutlineOptions,
 ) -> Result<ShapeMesh> {
+    if options.simulation_vertices != Some(0) {
+        // The loops are validated (and the spacing the mesher would use found) cheaply: a
+        // mesh as coarse as the outline allows.
+        let diag = crate::geometry::bbox_diagonal(outer);
+        let coarse = OutlineOptions { spacing: Some(diag.max(f64::MIN_POSITIVE)), ..options.clone() };
+        mesh_outline(outer, holes, &OutlineOptions { max_vertices: None, ..coarse })?;
+        let spacing = rendered_spacing(outer, holes, options, diag);
+        if let Some((mesh, simulation)) = nested_outline(outer, holes, spacing, options)? {
+            return Ok(ShapeMesh::with_box_uvs(mesh).with_simulation(simulation));
+        }
+    }
     Ok(ShapeMesh::with_box_uvs(mesh_outline(outer, holes, options)?))
+}
+
+/// The spacing [`mesh_outline`] meshes `outer` and `holes` at for `options` (the given or
+/// default spacing, enlarged to meet `max_vertices`).
+fn rendered_spacing(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &OutlineOptions, diag: f64) -> f64 {
+    use crate::meshing::image::{area, perimeter};
+    let spacing = options.spacing.unwrap_or(diag / crate::meshing::outline::DEFAULT_SPACING_DIVISOR);
+    let Some(budget) = options.max_vertices else { return spacing };
+    let a = area(outer).abs() - holes.iter().map(|h| area(h).abs()).sum::<f64>();
+    let p = perimeter(outer) + holes.iter().map(|h| perimeter(h)).sum::<f64>();
+    let points = outer.len() + holes.iter().map(Vec::len).sum::<usize>();
+    spacing.max(crate::meshing::outline::spacing_for_budget(a, p, points, budget))
 }
