@@ -265,9 +265,10 @@ pub enum Error {
     /// sum to 1, a vertex the simulation does not put at its rest position, or a rendered
     /// triangle not nested in one simulation triangle. Code `"bad-simulation"`.
     BadSimulation {
-        /// What is at fault: `"parent"`, `"weights"` or `"triangles"` (a rendered triangle).
+        /// What is at fault: `"parent"`, `"weights"`, `"triangles"` (a rendered triangle)
+        /// or `"vertices"` (a simulation vertex).
         what: &'static str,
-        /// The rendered vertex (or triangle) at fault.
+        /// The rendered vertex (or triangle, or simulation vertex) at fault.
         index: usize,
         /// Why.
         reason: String,

@@ -15,6 +15,7 @@
 //! | `step2` | the scale-adjusting solve, x and y together | §4.2, equation 7 |
 //! | `two_step` | both steps for one compiled pin set | §6 |
 //! | `components` | how components with fewer than two pins move | conventions 8 |
+//! | `disc` | pins with a radius: each disc set to its best-fitting rigid motion | — |
 //! | [`Rest`], [`Pinned`] | registration; compilation and update | §6 |
 //!
 //! * **register** ([`Rest::register`]): the edge stencils, both normal matrices' patterns,
@@ -32,6 +33,7 @@
 
 pub mod clock;
 mod components;
+mod disc;
 pub(crate) mod geodesic;
 pub(crate) mod injective;
 pub(crate) mod nonlinear;
@@ -49,10 +51,12 @@ pub(crate) mod system;
 pub(crate) mod two_step;
 
 pub use clock::set_clock;
-pub use injective::Report;
+pub use injective::{Report, PIN_TOLERANCE, VISIBLY_SETTLED};
 pub use pin_set::DISC_STIFFNESS;
+#[cfg(target_arch = "wasm32")]
+pub(crate) use pinned::check_targets;
 pub use pinned::{Pinned, PoseState};
-pub use pins::{Handle, Pin, PinKind, Rotation, Target};
+pub use pins::{with_default_radii, Handle, Pin, PinKind, Rotation, Target, DEFAULT_ROTATION_RADIUS};
 pub use rest::Rest;
 pub use starch::{Overlap, Starch};
 pub use stencil::MIN_COTANGENT_WEIGHT;

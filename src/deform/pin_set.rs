@@ -18,6 +18,7 @@
 //!   refactorisation, no new rows).
 
 use super::components::Motion;
+use super::disc::Disc;
 use super::geodesic::Graph;
 use super::pins::{resolve_handle, Handle, Pin, PinKind, PinRow, Rotation};
 use super::rest::RestData;
@@ -57,6 +58,8 @@ pub(crate) struct PinSet {
     pub(crate) multipliers: Option<Vec<f64>>,
     /// How each vertex moves.
     pub(crate) motion: Vec<Motion>,
+    /// The discs of the pins with a radius, on solved components.
+    pub(crate) discs: Vec<Disc>,
 }
 
 impl PinSet {
@@ -252,7 +255,33 @@ impl PinSet {
             })
             .collect();
         let motion = mesh.component_of().iter().map(|&c| per_component[c as usize]).collect();
-        Ok(PinSet { pins: pins.to_vec(), locations, points, positions, rotations, multipliers, motion })
+        let motion: Vec<Motion> = motion;
+        let discs = discs
+            .into_iter()
+            .enumerate()
+            .filter_map(|(pin, d)| d.map(|vertices| (pin, vertices)))
+            .filter(|(_, vertices)| vertices.first().is_some_and(|&v| motion[v as usize] == Motion::Solve))
+            .map(|(pin, mut vertices)| {
+                vertices.sort_unstable();
+                let around = mesh
+                    .triangles()
+                    .iter()
+                    .filter(|t| t.iter().any(|v| vertices.binary_search(v).is_ok()))
+                    .copied()
+                    .collect();
+                Disc { pin, vertices, around }
+            })
+            .collect();
+        Ok(PinSet {
+            pins: pins.to_vec(),
+            locations,
+            points,
+            positions,
+            rotations,
+            multipliers,
+            motion,
+            discs,
+        })
     }
 
     /// Position pins on the vertices `vertices` of a connected `n`-vertex graph with no
@@ -267,6 +296,7 @@ impl PinSet {
             rotations: Vec::new(),
             multipliers: None,
             motion: vec![Motion::Solve; n],
+            discs: Vec::new(),
         }
     }
 

@@ -2,6 +2,7 @@
 //! "compilation" and "interactive update").
 
 use super::components::{place_unsolved, Motion};
+use super::disc::fit_discs;
 use super::injective::{add_held_terms, Injective, Report};
 use super::nonlinear::Nonlinear;
 use super::pin_set::PinSet;
@@ -233,6 +234,8 @@ impl Pinned {
         }
         let p = &self.pins;
         place_unsolved(&p.motion, rest.mesh.vertices(), &p.points, targets, rotations, &mut self.positions);
+        let injective = matches!(self.solver, Solver::Injective(_));
+        fit_discs(&p.discs, rest.mesh.vertices(), rotations, injective, &mut self.positions);
         self.report.lag = self.lag(targets);
         Ok(())
     }

@@ -163,6 +163,31 @@ impl Simulation {
         &self.home
     }
 
+    /// For each simulation vertex, the rendered vertex that sits on it (a one-hot weight on
+    /// it): what reads a pose of the rendered mesh back onto the simulation mesh (a blend's
+    /// poses). Every refinement has them ([`refine`], meshes from pictures and outlines).
+    ///
+    /// Errors: [`Error::BadSimulation`] naming a simulation vertex no rendered vertex sits
+    /// on.
+    pub fn twins(&self) -> Result<Vec<u32>> {
+        let mut twins = vec![u32::MAX; self.mesh.vertices().len()];
+        for (v, (c, w)) in self.corners.iter().zip(&self.weights).enumerate() {
+            for (&u, &x) in c.iter().zip(w) {
+                if (x - 1.0).abs() <= 1e-12 && twins[u as usize] == u32::MAX {
+                    twins[u as usize] = v as u32;
+                }
+            }
+        }
+        match twins.iter().position(|&t| t == u32::MAX) {
+            Some(i) => Err(Error::BadSimulation {
+                what: "vertices",
+                index: i,
+                reason: format!("simulation vertex {i} is not a vertex of the rendered mesh"),
+            }),
+            None => Ok(twins),
+        }
+    }
+
     /// The number of rendered vertices this simulation carries.
     pub fn rendered_count(&self) -> usize {
         self.parent.len()

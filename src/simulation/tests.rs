@@ -246,3 +246,28 @@ fn scratch_sizes() {
         println!("   plain {} in {:.1} ms", plain.mesh().vertices().len(), t.elapsed().as_secs_f64() * 1e3);
     }
 }
+
+#[test]
+#[ignore]
+fn scratch_held() {
+    use crate::deform::{Handle, Options, Rest};
+    let side = 1024u32;
+    let picture = test_character(side, side);
+    let options = ImageOptions { max_vertices: Some(30000), spacing: Some(0.5), ..ImageOptions::default() };
+    let shape = mesh_image(&picture, side, side, &options).unwrap();
+    let sim = shape.simulation().unwrap();
+    let rest = Rest::register(sim.mesh().clone(), Options::default()).unwrap();
+    let s = side as f64;
+    let pins = [[0.5 * s, 0.2 * s], [0.37 * s, 0.9 * s], [0.63 * s, 0.9 * s], [0.8 * s, 0.47 * s]];
+    let mut p = rest.compile(&pins.map(Handle::Point)).unwrap();
+    let end = [0.45 * s, 0.12 * s];
+    for f in 1..=90 {
+        let t = (f as f64 / 60.0).min(1.0);
+        let mut targets = pins;
+        targets[3] = [pins[3][0] + t * (end[0] - pins[3][0]), pins[3][1] + t * (end[1] - pins[3][1])];
+        p.update(&targets).unwrap();
+        if f >= 58 {
+            println!("{f}: {:?}", p.report());
+        }
+    }
+}

@@ -5,10 +5,13 @@ use js_sys::{Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::errors::{bad_pose_index, bad_type};
+use super::mesh::JsMesh;
 use super::options::{blend_options, pose_options};
+use super::simulation::read_simulation;
 use super::{items, typed, Thrown, TypedArray};
 use crate::blend::Blender;
-use crate::Error;
+use crate::simulation::Embedding;
+use crate::{Error, Mesh};
 
 /// Poses of one rest mesh, blended by weights: rotations blend by their angles and
 /// stretches by their logarithms, so that half of a 120° turn is the 60° turn at full size
@@ -28,7 +31,13 @@ use crate::Error;
 /// ```
 #[wasm_bindgen(js_name = Blender)]
 pub struct JsBlender {
+    /// On the simulation mesh when there is one.
     blender: Blender,
+    /// The rendered mesh and how the simulation mesh carries it, with the rendered vertex
+    /// on each simulation vertex (which reads a rendered pose onto the simulation mesh).
+    embedding: Option<(Embedding, Vec<u32>)>,
+    /// The blend on the simulation mesh, gathered into `out` (with an embedding).
+    simulated: Vec<[f64; 2]>,
     /// The weights of the last blend, kept so that a blend allocates nothing.
     weights: Vec<f64>,
     /// The positions of the last blend.
@@ -47,12 +56,39 @@ impl JsBlender {
         #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "BlendOptions")] options: JsValue,
     ) -> Result<JsBlender, Thrown> {
-        let options = blend_options(&options)?;
+        let parsed = blend_options(&options)?;
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
-        let blender = Blender::new(vertices, triangles, options)?;
-        let n = blender.mesh().vertices().len();
-        Ok(JsBlender { blender, weights: Vec::new(), out: vec![[0.0; 2]; n] })
+        let simulation = match options.is_object() {
+            true => js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or(JsValue::UNDEFINED),
+            false => JsValue::UNDEFINED,
+        };
+        if simulation.is_undefined() || simulation.is_null() {
+            return JsBlender::new(Blender::new(vertices, triangles, parsed)?, None);
+        }
+        let mesh = Mesh::new(vertices, triangles)?;
+        let simulation = read_simulation(&simulation, &mesh)?;
+        JsBlender::carried(Embedding::new(mesh, simulation)?, parsed)
+    }
+
+    /// A blender for poses of a `Mesh`, on its simulation mesh when it has one
+    /// (`mesh.simulation`): a blend then costs the simulation mesh's solve plus a gather,
+    /// and `addPose` and `blendInto` still take and give the mesh's own (rendered)
+    /// positions. `options`: `BlendOptions`.
+    #[wasm_bindgen(js_name = fromMesh)]
+    pub fn from_mesh(
+        mesh: &JsMesh,
+        #[wasm_bindgen(unchecked_optional_param_type = "BlendOptions")] options: JsValue,
+    ) -> Result<JsBlender, Thrown> {
+        let parsed = blend_options(&options)?;
+        let shape = &mesh.shape;
+        match shape.simulation() {
+            None => {
+                let m = shape.mesh();
+                JsBlender::new(Blender::new(m.vertices().to_vec(), m.triangles().to_vec(), parsed)?, None)
+            }
+            Some(s) => JsBlender::carried(Embedding::new(shape.mesh().clone(), s.clone())?, parsed),
+        }
     }
 
     /// Adds a pose, `[x0, y0, x1, y1, …]` one position per vertex (e.g. `puppet.positions`),
@@ -76,7 +112,11 @@ impl JsBlender {
         if got != expected {
             return Err(Error::CountMismatch { what: "positions", got, expected }.into());
         }
-        let points = items::<Float64Array, 2>("positions", &positions)?;
+        let mut points = items::<Float64Array, 2>("positions", &positions)?;
+        if let Some((_, twins)) = &self.embedding {
+            // The pose of the simulation mesh: the rendered vertices on its vertices.
+            points = twins.iter().map(|&v| points[v as usize]).collect();
+        }
         let index = self.blender.add_pose_with(&points, options)?;
         self.weights.resize(self.blender.pose_count(), 0.0);
         Ok(index)
@@ -101,16 +141,23 @@ impl JsBlender {
         self.blender.pose_count()
     }
 
-    /// The number of vertices of the rest mesh.
+    /// The number of vertices of the rest mesh (the rendered mesh, with a simulation mesh).
     #[wasm_bindgen(getter, js_name = vertexCount)]
     pub fn vertex_count(&self) -> usize {
-        self.blender.mesh().vertices().len()
+        self.embedding.as_ref().map_or(self.blender.mesh(), |(e, _)| e.rendered()).vertices().len()
     }
 
-    /// The number of triangles of the rest mesh.
+    /// The number of triangles of the rest mesh (the rendered mesh, with a simulation mesh).
     #[wasm_bindgen(getter, js_name = triangleCount)]
     pub fn triangle_count(&self) -> usize {
-        self.blender.mesh().triangles().len()
+        self.embedding.as_ref().map_or(self.blender.mesh(), |(e, _)| e.rendered()).triangles().len()
+    }
+
+    /// The number of vertices of the mesh the blend solves on: the simulation mesh's, or
+    /// `vertexCount` without one.
+    #[wasm_bindgen(getter, js_name = simulationVertexCount)]
+    pub fn simulation_vertex_count(&self) -> usize {
+        self.blender.mesh().vertices().len()
     }
 
     /// How many flipped or collapsed triangles of pose `index` were clamped (0 for a pose
@@ -166,7 +213,32 @@ impl JsBlender {
         }
         // One weight per pose (resized as poses come and go).
         array.copy_to(&mut self.weights);
-        Ok(self.blender.blend_into(&self.weights, &mut self.out)?)
+        match &self.embedding {
+            None => Ok(self.blender.blend_into(&self.weights, &mut self.out)?),
+            Some((e, _)) => {
+                self.blender.blend_into(&self.weights, &mut self.simulated)?;
+                e.gather(&self.simulated, &mut self.out);
+                Ok(())
+            }
+        }
+    }
+}
+
+impl JsBlender {
+    /// A blender around `blender`, carrying `embedding`'s rendered mesh when given.
+    fn new(blender: Blender, embedding: Option<(Embedding, Vec<u32>)>) -> Result<JsBlender, Thrown> {
+        let n = blender.mesh().vertices().len();
+        let rendered = embedding.as_ref().map_or(n, |(e, _)| e.rendered().vertices().len());
+        let simulated = if embedding.is_some() { vec![[0.0; 2]; n] } else { Vec::new() };
+        Ok(JsBlender { blender, embedding, simulated, weights: Vec::new(), out: vec![[0.0; 2]; rendered] })
+    }
+
+    /// A blender on `embedding`'s simulation mesh.
+    fn carried(embedding: Embedding, options: crate::blend::BlendOptions) -> Result<JsBlender, Thrown> {
+        let twins = embedding.simulation().twins()?;
+        let m = embedding.simulation().mesh();
+        let blender = Blender::new(m.vertices().to_vec(), m.triangles().to_vec(), options)?;
+        JsBlender::new(blender, Some((embedding, twins)))
     }
 }
 

@@ -26,7 +26,7 @@ export type ErrorCode =
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
   | "point-outside" | "overlapping-pins"
-  | "bad-time" | "empty-track" | "bad-document" | "bad-version";
+  | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -37,7 +37,9 @@ export interface BunrakuError extends Error {
   /** `non-finite`, `too-large`: the index of the offending number in the flat typed array passed
    *  (`[x0, y0, …]`; of a blend's `weights`: the weight); `handle-outside`, `bad-handle`: the handle
    *  (or pin); `bad-pose`: the pose index given; `point-outside`: the starch or overlap region;
-   *  `bad-option` for an item of a list (`kinds[1]`, `radius[1]`, `starch[0].extent`): the item. */
+   *  `bad-option` for an item of a list (`kinds[1]`, `radius[1]`, `starch[0].extent`): the item;
+   *  `bad-simulation`: the rendered vertex (the rendered triangle when `field` is
+   *  `"simulation.triangles"`) at fault. */
   index?: number;
   /** `non-finite`, `too-large`: the point (vertex, handle, target) the number belongs to. */
   item?: number;
@@ -126,7 +128,8 @@ impl Thrown {
 /// The core's option names (the fields of its options structs, as `Error::BadOption` and
 /// the `NoOpaquePixel` message name them) that JS spells otherwise; the others (`spacing`,
 /// `margin`, `simplify`, `pins`, `transform`, `background`, …) are the same on both sides.
-const OPTION_NAMES: [(&str, &str); 11] = [
+const OPTION_NAMES: [(&str, &str); 12] = [
+    ("simulation_vertices", "simulationVertices"),
     ("handle_weight", "handleWeight"),
     ("min_angle_deg", "minAngle"),
     ("max_vertices", "maxVertices"),
@@ -231,6 +234,9 @@ impl From<Error> for Thrown {
                 }
             }
             Error::BadTime { time, .. } => t.with("value", time),
+            Error::BadSimulation { what, index, .. } => {
+                t.with("field", format!("simulation.{what}")).with("index", index)
+            }
             Error::BadWeight { index, value, limit } => {
                 let t = t.with("index", index).with("value", value);
                 if value.is_finite() {

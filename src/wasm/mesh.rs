@@ -6,6 +6,7 @@ use wasm_bindgen::prelude::*;
 
 use super::errors::{bad_type, describe};
 use super::options::{image_options, outline_options};
+use super::simulation::simulation_object;
 use super::{flat, items, read_items, rgba_bytes, set, string, typed, Thrown};
 use crate::error::Quoted;
 use crate::meshing::{mesh_image, read_obj, shape_from_outline, ShapeMesh};
@@ -32,7 +33,7 @@ export interface MeshJSON {
 /// `Puppet.register`.
 #[wasm_bindgen(js_name = Mesh)]
 pub struct JsMesh {
-    shape: ShapeMesh,
+    pub(crate) shape: ShapeMesh,
 }
 
 #[wasm_bindgen(js_class = Mesh)]
@@ -185,6 +186,34 @@ impl JsMesh {
     #[wasm_bindgen(getter, js_name = vertexCount)]
     pub fn vertex_count(&self) -> usize {
         self.shape.mesh().vertices().len()
+    }
+
+    /// The simulation mesh under this (rendered) mesh, `{ vertices, triangles, parent,
+    /// weights }` (parent: one simulation triangle per rendered vertex; weights: its three
+    /// barycentric coordinates there), or `null` when the mesh solves on itself. Meshes from
+    /// pictures and outlines get one when they are large (see `simulationVertices`);
+    /// `refine(k)` gives one to any mesh. `Puppet.fromMesh` uses it.
+    #[wasm_bindgen(getter, unchecked_return_type = "SimulationMesh | null")]
+    pub fn simulation(&self) -> JsValue {
+        self.shape.simulation().map_or(JsValue::NULL, simulation_object)
+    }
+
+    /// This mesh refined `k × k` (every triangle split into `k²`, `k` a whole number from 1
+    /// to 64), texture coordinates interpolated, with this mesh as its simulation mesh: a
+    /// finer picture that solves at this mesh's cost. A mesh that already has a simulation
+    /// mesh keeps it. Throws `bad-option` for another `k` or a result of more than 2²²
+    /// vertices.
+    pub fn refine(&self, k: JsValue) -> Result<JsMesh, Thrown> {
+        let factor = k.as_f64().filter(|x| x.fract() == 0.0 && (1.0..=64.0).contains(x));
+        let Some(factor) = factor else {
+            return Err(Error::BadOption {
+                name: "k",
+                value: k.as_f64(),
+                reason: "is not a whole number from 1 to 64".into(),
+            }
+            .into());
+        };
+        Ok(JsMesh { shape: self.shape.refine(factor as u32)? })
     }
 
     /// The number of triangles.

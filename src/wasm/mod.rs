@@ -33,6 +33,7 @@ mod options;
 mod pins;
 mod puppet;
 mod render;
+mod simulation;
 
 pub use animation::{JsPlayer, JsTrack};
 pub use blend::JsBlender;

@@ -53,6 +53,10 @@ export interface TermWeights {
 
 /** Options of `Puppet.register`. */
 export interface RegisterOptions {
+  /** A simulation mesh carrying the mesh registered (`mesh.simulation` of a `Mesh` that has
+   *  one): every method then solves on it, and updates return the registered (rendered) mesh's
+   *  positions. Left out: the mesh solves on itself, as it always did. */
+  simulation?: SimulationMesh;
   /** Edge weighting. Default `"uniform"`. */
   weights?: EdgeWeights;
   /** The multiplier of the pin rows (the energy weighs its square): how hard pins hold against
@@ -90,6 +94,10 @@ export interface OutlineOptions {
   minAngle?: number;
   /** At most this many vertices (a whole number): the spacing grows until the mesh fits. */
   maxVertices?: number;
+  /** The simulation mesh's target size, in vertices: every method solves on a coarse simulation
+   *  mesh of about this many vertices, under this (rendered) mesh nested in it. Left out: one of
+   *  about 2500 vertices when the mesh would have more than 6000; `0`: never. */
+  simulationVertices?: number;
 }
 
 /** Options of `Mesh.fromImage`; lengths and areas in pixels. */
@@ -112,6 +120,10 @@ export interface ImageOptions {
   /** Opaque regions smaller than this are dropped as specks, holes smaller than this filled.
    *  Default 16. */
   minArea?: number;
+  /** The simulation mesh's target size, in vertices: every method solves on a coarse simulation
+   *  mesh of about this many vertices, under this (rendered) mesh nested in it. Left out: one of
+   *  about 2500 vertices when the mesh would have more than 6000; `0`: never. */
+  simulationVertices?: number;
 }
 
 /** Options of `flatten`. */
@@ -133,6 +145,9 @@ export interface BlendOptions {
    *  triangle's current rotation and stitches again for it times the blended stretch), a whole number
    *  from 0 to 100, each one more back-substitution. Default 0. */
   iterations?: number;
+  /** A simulation mesh carrying the mesh registered (`mesh.simulation`; `Blender.fromMesh` uses
+   *  the mesh's own): poses are blended on it and gathered back to the mesh's vertices. */
+  simulation?: SimulationMesh;
 }
 
 /** What `Blender.addPose` does with a pose's flipped or collapsed triangles, whose stretch has no
@@ -335,6 +350,8 @@ pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
             "budgetMs",
             "maxSolves",
             "regularization",
+            // Read by `Puppet.register` itself (it needs the rendered mesh).
+            "simulation",
         ],
     )?;
     let mut o = Options::default();
@@ -385,7 +402,8 @@ pub(crate) fn method_name(method: Method) -> &'static str {
 
 /// `Blender.register`'s options.
 pub(crate) fn blend_options(options: &JsValue) -> Result<BlendOptions, Thrown> {
-    let fields = Fields::open(options, &["iterations"])?;
+    // `simulation` is read by `Blender.register` itself (it needs the rendered mesh).
+    let fields = Fields::open(options, &["iterations", "simulation"])?;
     let mut o = BlendOptions::default();
     if let Some(k) = fields.count("iterations")? {
         o.iterations = u32::try_from(k).unwrap_or(u32::MAX);
@@ -420,8 +438,9 @@ pub(crate) fn pose_options(options: &JsValue, pose_count: usize) -> Result<PoseO
 
 /// `Mesh.fromOutline`'s options.
 pub(crate) fn outline_options(options: &JsValue) -> Result<OutlineOptions, Thrown> {
-    let fields = Fields::open(options, &["spacing", "minAngle", "maxVertices"])?;
+    let fields = Fields::open(options, &["spacing", "minAngle", "maxVertices", "simulationVertices"])?;
     let mut o = OutlineOptions::new();
+    o.simulation_vertices = fields.count("simulationVertices")?;
     o.spacing = fields.number("spacing")?;
     o.min_angle_deg = fields.number("minAngle")?.unwrap_or(o.min_angle_deg);
     o.max_vertices = fields.count("maxVertices")?;
@@ -432,9 +451,19 @@ pub(crate) fn outline_options(options: &JsValue) -> Result<OutlineOptions, Throw
 pub(crate) fn image_options(options: &JsValue) -> Result<ImageOptions, Thrown> {
     let fields = Fields::open(
         options,
-        &["alphaThreshold", "margin", "spacing", "maxVertices", "minAngle", "simplify", "minArea"],
+        &[
+            "alphaThreshold",
+            "margin",
+            "spacing",
+            "maxVertices",
+            "minAngle",
+            "simplify",
+            "minArea",
+            "simulationVertices",
+        ],
     )?;
     let mut o = ImageOptions::default();
+    o.simulation_vertices = fields.count("simulationVertices")?;
     if let Some(t) = fields.number("alphaThreshold")? {
         // The core holds a byte: the range is checked here, worded like the core's checks.
         if !(t.fract() == 0.0 && (1.0..=255.0).contains(&t)) {

@@ -26,7 +26,9 @@ export interface CompileOptions {
   kinds?: PinKind[];
   /** In rest units, ≥ 0: a pin with a radius holds the disc of the rest shape within that distance
    *  of its point (measured along the mesh) rigidly, instead of a point. One number for every pin,
-   *  or a `Float64Array` with one per pin. Default 0. */
+   *  or a `Float64Array` with one per pin. Default: 0 for position pins; for bend and advanced pins
+   *  4% of the shape's diameter (the diagonal of its bounding box), at most 0.45 of the distance to
+   *  the nearest other pin, so that a turned pin turns the neighbourhood it holds. */
   radius?: number | Float64Array;
 }
 
@@ -62,8 +64,9 @@ pub(crate) fn kind_name(kind: PinKind) -> &'static str {
     }
 }
 
-/// `compile`'s pins: `handles` with the kinds and radii of `options`.
-pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<Vec<Pin>, Thrown> {
+/// `compile`'s pins: `handles` with the kinds and radii of `options`, and whether a
+/// radius was given (without one, bend and advanced pins get the default).
+pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<(Vec<Pin>, bool), Thrown> {
     let fields = Fields::open(options, &["kinds", "radius"])?;
     let n = handles.len();
     let mut pins: Vec<Pin> = handles.into_iter().map(Pin::from).collect();
@@ -86,7 +89,9 @@ pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<Vec<Pin>, 
                 })?;
         }
     }
-    if let Some(v) = fields.get("radius")? {
+    let given = fields.get("radius")?;
+    let radius_given = given.is_some();
+    if let Some(v) = given {
         let radius = |i: usize, r: f64| -> Result<f64, Thrown> {
             if r.is_finite() && r >= 0.0 {
                 return Ok(r);
@@ -111,7 +116,7 @@ pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<Vec<Pin>, 
             return Err(bad_type("options.radius", "a number or a Float64Array", &v));
         }
     }
-    Ok(pins)
+    Ok((pins, radius_given))
 }
 
 /// Reads `[angle, scale]` per pin into `out` without allocating (`undefined`: every pin

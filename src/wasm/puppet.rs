@@ -5,11 +5,15 @@ use js_sys::{Array, Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::flatten::quality_object;
+use super::mesh::JsMesh;
 use super::options::{method_name, register_options, weights_name};
 use super::pins::{kind_name, overlap, pins, read_rotations, starch};
+use super::simulation::read_simulation;
 use super::{flat, items, read_exact, typed, Thrown, TypedArray};
-use crate::deform::Starch;
-use crate::{Error, Handle, Mesh, Pinned, Rest, Rotation};
+use crate::deform::pins::with_default_radii;
+use crate::deform::{Options, Starch};
+use crate::simulation::{Embedding, PlacedPins};
+use crate::{Error, Handle, Mesh, Pin, Pinned, Rest, Rotation};
 
 /// A shape to puppeteer: a registered rest mesh and, once compiled, a handle set.
 ///
@@ -21,7 +25,16 @@ use crate::{Error, Handle, Mesh, Pinned, Rest, Rotation};
 /// ```
 #[wasm_bindgen]
 pub struct Puppet {
+    /// Registered on the simulation mesh when there is one.
     rest: Rest,
+    /// The rendered mesh and how the simulation mesh carries it (`None`: the mesh solves on
+    /// itself, bit for bit as without a simulation mesh).
+    embedding: Option<Embedding>,
+    /// The pins as placed on the simulation mesh (empty without one).
+    placed: PlacedPins,
+    /// The simulation pins' targets of the last update, and the rendered positions.
+    simulation_targets: Vec<[f64; 2]>,
+    rendered: Vec<[f64; 2]>,
     pinned: Option<Pinned>,
     /// The targets and rotations of the last update, kept so that an update allocates
     /// nothing.
@@ -47,19 +60,71 @@ impl Puppet {
         #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "RegisterOptions")] options: JsValue,
     ) -> Result<Puppet, Thrown> {
-        let options = register_options(&options)?;
+        let parsed = register_options(&options)?;
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
-        let rest = Rest::register(Mesh::new(vertices, triangles)?, options)?;
-        let depths = vec![0.0; rest.mesh().triangles().len()];
-        Ok(Puppet {
-            rest,
-            pinned: None,
-            targets: Vec::new(),
-            rotations: Vec::new(),
-            starch: Vec::new(),
-            depths,
-        })
+        let mesh = Mesh::new(vertices, triangles)?;
+        let simulation = match options.is_object() {
+            true => js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or(JsValue::UNDEFINED),
+            false => JsValue::UNDEFINED,
+        };
+        let embedding = match simulation.is_undefined() || simulation.is_null() {
+            true => None,
+            false => {
+                let simulation = read_simulation(&simulation, &mesh)?;
+                Some(Embedding::new(mesh.clone(), simulation)?)
+            }
+        };
+        Puppet::new(mesh, embedding, parsed)
+    }
+
+    /// Registers a `Mesh` (from `Mesh.fromImage`, `fromOutline`, `fromOBJ`, `fromJSON` or
+    /// `refine`) with `options` as `register` takes them: on its simulation mesh when it has
+    /// one (`mesh.simulation`), so that a large picture solves at the simulation mesh's
+    /// cost; updates return the positions of the mesh's own (rendered) vertices. The mesh is
+    /// copied: free it whenever you like.
+    #[wasm_bindgen(js_name = fromMesh)]
+    pub fn from_mesh(
+        mesh: &JsMesh,
+        #[wasm_bindgen(unchecked_optional_param_type = "RegisterOptions")] options: JsValue,
+    ) -> Result<Puppet, Thrown> {
+        let parsed = register_options(&options)?;
+        if options.is_object()
+            && !js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or_default().is_undefined()
+        {
+            return Err(super::errors::bad_option(
+                "simulation",
+                &JsValue::UNDEFINED,
+                "is the mesh's own in Puppet.fromMesh (use Puppet.register to pass another)",
+            ));
+        }
+        let shape = &mesh.shape;
+        let embedding = match shape.simulation() {
+            Some(s) => Some(Embedding::new(shape.mesh().clone(), s.clone())?),
+            None => None,
+        };
+        Puppet::new(shape.mesh().clone(), embedding, parsed)
+    }
+
+    /// The number of vertices of the simulation mesh every method solves on (the vertex
+    /// count when the puppet has no simulation mesh).
+    #[wasm_bindgen(getter, js_name = simulationVertexCount)]
+    pub fn simulation_vertex_count(&self) -> usize {
+        self.rest.mesh().vertices().len()
+    }
+
+    /// The simulation mesh's triangles `[a0, b0, c0, …]` (the puppet's own triangles when it
+    /// has no simulation mesh): with `simulationPositions`, a wireframe of what is solved.
+    #[wasm_bindgen(getter, js_name = simulationTriangles)]
+    pub fn simulation_triangles(&self) -> Uint32Array {
+        flat(self.rest.mesh().triangles())
+    }
+
+    /// The simulation mesh's positions after the last update `[x0, y0, …]` (the rest shape
+    /// before the first; the puppet's own positions when it has no simulation mesh).
+    #[wasm_bindgen(getter, js_name = simulationPositions)]
+    pub fn simulation_positions(&self) -> Float64Array {
+        flat(self.simulated())
     }
 
     /// Compiles a pin set: `handles` is `[x0, y0, x1, y1, …]`, rest-space points anywhere
@@ -95,13 +160,45 @@ impl Puppet {
     }
 
     fn install(&mut self, handles: Vec<Handle>, options: &JsValue) -> Result<(), Thrown> {
-        let pins = pins(handles, options)?;
+        let (mut given, radius_given) = pins(handles, options)?;
+        let defaulted = !radius_given && given.iter().any(|p| p.kind.holds_rotation());
+        if defaulted {
+            let mesh = self.rendered_mesh();
+            let points: Vec<[f64; 2]> = given
+                .iter()
+                .map(|p| match p.at {
+                    Handle::Point(q) => q,
+                    Handle::Vertex(v) => mesh.vertices().get(v as usize).copied().unwrap_or([f64::NAN; 2]),
+                    Handle::Barycentric { .. } => [f64::NAN; 2],
+                })
+                .collect();
+            with_default_radii(&mut given, &points, mesh.diameter());
+        }
+        match self.compile_pins(&given) {
+            // Defaulted discs of pins so close that their triangles touch: points instead.
+            Err(Error::OverlappingPins { .. }) if defaulted => {
+                for p in given.iter_mut().filter(|p| p.kind.holds_rotation()) {
+                    p.radius = 0.0;
+                }
+                Ok(self.compile_pins(&given)?)
+            }
+            result => Ok(result?),
+        }
+    }
+
+    /// Compiles `given` (pins on the rendered mesh), keeping the pose and the starch.
+    fn compile_pins(&mut self, given: &[Pin]) -> crate::Result<()> {
+        let placed = match &self.embedding {
+            Some(e) => e.place_pins(given)?,
+            None => PlacedPins::default(),
+        };
+        let pins = if self.embedding.is_some() { &placed.pins[..] } else { given };
         // The new pin set starts from the current pose (the injective method's warm start):
         // a pin added mid-pose, first targeted where its rest point now is, moves nothing.
         let pinned = match &self.pinned {
-            Some(p) => p.recompile(&pins)?,
+            Some(p) => p.recompile(pins)?,
             None => {
-                let mut p = self.rest.compile_pins_from(&pins, self.current())?;
+                let mut p = self.rest.compile_pins_from(pins, self.simulated())?;
                 if !self.starch.is_empty() {
                     p.set_starch(&self.starch)?;
                 }
@@ -109,8 +206,10 @@ impl Puppet {
             }
         };
         self.targets = vec![[0.0; 2]; pins.len()];
+        self.simulation_targets = vec![[0.0; 2]; pins.len()];
         self.rotations = vec![Rotation::default(); pins.len()];
         self.pinned = Some(pinned);
+        self.placed = placed;
         Ok(())
     }
 
@@ -127,7 +226,12 @@ impl Puppet {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "StarchRegion[]")] regions: JsValue,
     ) -> Result<(), Thrown> {
-        let regions = starch(&regions)?;
+        let mut regions = starch(&regions)?;
+        if let Some(e) = &self.embedding {
+            for r in &mut regions {
+                r.at = e.simulation_point(r.at).unwrap_or(r.at);
+            }
+        }
         match &mut self.pinned {
             Some(p) => p.set_starch(&regions)?,
             None => self.rest.check_starch(&regions)?,
@@ -147,8 +251,17 @@ impl Puppet {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "OverlapRegion[]")] regions: JsValue,
     ) -> Result<(), Thrown> {
-        let regions = overlap(&regions)?;
-        self.depths = self.rest.triangle_depths(&regions)?;
+        let mut regions = overlap(&regions)?;
+        if let Some(e) = &self.embedding {
+            for r in &mut regions {
+                r.at = e.simulation_point(r.at).unwrap_or(r.at);
+            }
+        }
+        let depths = self.rest.triangle_depths(&regions)?;
+        self.depths = match &self.embedding {
+            Some(e) => e.per_rendered_triangle(&depths),
+            None => depths,
+        };
         Ok(())
     }
 
@@ -184,14 +297,17 @@ impl Puppet {
         let points: Vec<[f64; 2]> = p
             .locations()
             .iter()
-            .map(|l| {
+            .enumerate()
+            .map(|(k, l)| {
                 let t = triangles[l.triangle as usize];
                 let mut q = [0.0; 2];
                 for (&v, &w) in t.iter().zip(&l.weights) {
                     q[0] += w * positions[v as usize][0];
                     q[1] += w * positions[v as usize][1];
                 }
-                q
+                // A pin placed off its point on the simulation mesh is drawn at its point.
+                let d = self.placed.offsets.get(k).copied().unwrap_or_default();
+                [q[0] - d[0], q[1] - d[1]]
             })
             .collect();
         flat(&points)
@@ -235,30 +351,57 @@ impl Puppet {
     fn solve(&mut self, targets: &JsValue, rotations: &JsValue) -> Result<&[f64], Thrown> {
         read_exact("targets", typed::<Float64Array>("targets", targets)?, &mut self.targets)?;
         read_rotations(rotations, &mut self.rotations)?;
-        match &mut self.pinned {
-            None => Ok(self.rest.mesh().vertices().as_flattened()),
-            Some(p) => Ok(p.update_with(&self.targets, &self.rotations)?.as_flattened()),
+        if self.pinned.is_none() {
+            return Ok(self.rendered_mesh().vertices().as_flattened());
+        }
+        let Some(p) = &mut self.pinned else { return Ok(&[]) };
+        let Some(e) = &self.embedding else {
+            return Ok(p.update_with(&self.targets, &self.rotations)?.as_flattened());
+        };
+        // The user's targets are checked as given; the offsets are a fraction of an edge.
+        crate::deform::check_targets(&self.targets, self.placed.pins.len())?;
+        e.targets(&self.placed, &self.targets, &self.rotations, &mut self.simulation_targets);
+        let simulated = p.update_with(&self.simulation_targets, &self.rotations)?;
+        e.gather(simulated, &mut self.rendered);
+        Ok(self.rendered.as_flattened())
+    }
+
+    /// The positions of the last update (the rest shape before the first), one per
+    /// rendered vertex.
+    fn current(&self) -> &[[f64; 2]] {
+        match (&self.embedding, &self.pinned) {
+            (Some(_), _) => &self.rendered,
+            (None, Some(p)) => p.positions(),
+            (None, None) => self.rest.mesh().vertices(),
         }
     }
 
-    /// The positions of the last update (the rest shape before the first).
-    fn current(&self) -> &[[f64; 2]] {
+    /// The simulation mesh's positions of the last update (the rest shape before the first).
+    fn simulated(&self) -> &[[f64; 2]] {
         match &self.pinned {
             Some(p) => p.positions(),
             None => self.rest.mesh().vertices(),
         }
     }
 
+    /// The mesh the puppet draws: the rendered mesh, or the registered one.
+    fn rendered_mesh(&self) -> &Mesh {
+        match &self.embedding {
+            Some(e) => e.rendered(),
+            None => self.rest.mesh(),
+        }
+    }
+
     /// The number of vertices.
     #[wasm_bindgen(getter, js_name = vertexCount)]
     pub fn vertex_count(&self) -> usize {
-        self.rest.mesh().vertices().len()
+        self.rendered_mesh().vertices().len()
     }
 
     /// The number of triangles.
     #[wasm_bindgen(getter, js_name = triangleCount)]
     pub fn triangle_count(&self) -> usize {
-        self.rest.mesh().triangles().len()
+        self.rendered_mesh().triangles().len()
     }
 
     /// The number of compiled handles (0 before `compile`).
@@ -270,27 +413,34 @@ impl Puppet {
     /// The number of connected components of the mesh.
     #[wasm_bindgen(getter, js_name = componentCount)]
     pub fn component_count(&self) -> usize {
-        self.rest.mesh().component_count()
+        self.rendered_mesh().component_count()
     }
 
     /// The rest vertices `[x0, y0, …]`.
     #[wasm_bindgen(getter)]
     pub fn vertices(&self) -> Float64Array {
-        flat(self.rest.mesh().vertices())
+        flat(self.rendered_mesh().vertices())
     }
 
     /// The triangles `[a0, b0, c0, …]`, all counter-clockwise (an input triangle that was
     /// clockwise has its last two indices swapped).
     #[wasm_bindgen(getter)]
     pub fn triangles(&self) -> Uint32Array {
-        flat(self.rest.mesh().triangles())
+        flat(self.rendered_mesh().triangles())
     }
 
     /// The compiled handles' rest points `[x0, y0, …]`: passing them as targets returns
     /// the rest shape.
     #[wasm_bindgen(getter)]
     pub fn handles(&self) -> Float64Array {
-        flat(self.pinned.as_ref().map_or(&[][..], |p| p.handle_points()))
+        let points = self.pinned.as_ref().map_or(&[][..], |p| p.handle_points());
+        let offsets = &self.placed.offsets;
+        let given: Vec<[f64; 2]> = points
+            .iter()
+            .enumerate()
+            .map(|(k, q)| offsets.get(k).map_or(*q, |d| [q[0] - d[0], q[1] - d[1]]))
+            .collect();
+        flat(&given)
     }
 
     /// The positions computed by the last update (the rest shape before the first).
@@ -323,6 +473,9 @@ impl Puppet {
         if let Some(p) = &mut self.pinned {
             p.reset();
         }
+        if let Some(e) = &self.embedding {
+            self.rendered.copy_from_slice(e.rendered().vertices());
+        }
     }
 
     /// The distortion of any `positions` (`[x0, y0, …]`, one pair per vertex, e.g. a
@@ -334,7 +487,7 @@ impl Puppet {
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
     ) -> Result<JsValue, Thrown> {
         let positions = items::<Float64Array, 2>("positions", &positions)?;
-        Ok(quality_object(&crate::quality::quality_2d(self.rest.mesh(), &positions)?))
+        Ok(quality_object(&crate::quality::quality_2d(self.rendered_mesh(), &positions)?))
     }
 
     /// The method this puppet was registered with.
@@ -355,6 +508,32 @@ impl Puppet {
     /// arrays.
     #[wasm_bindgen(unchecked_return_type = "Quality")]
     pub fn quality(&self) -> Result<JsValue, Thrown> {
-        Ok(quality_object(&crate::quality::quality_2d(self.rest.mesh(), self.current())?))
+        Ok(quality_object(&crate::quality::quality_2d(self.rendered_mesh(), self.current())?))
+    }
+}
+
+impl Puppet {
+    /// A puppet of `mesh`, solved on `embedding`'s simulation mesh when given.
+    fn new(mesh: Mesh, embedding: Option<Embedding>, options: Options) -> Result<Puppet, Thrown> {
+        let solved = match &embedding {
+            Some(e) => e.simulation().mesh().clone(),
+            None => mesh,
+        };
+        let rest = Rest::register(solved, options)?;
+        let rendered = embedding.as_ref().map_or_else(Vec::new, |e| e.rendered().vertices().to_vec());
+        let triangles =
+            embedding.as_ref().map_or(rest.mesh().triangles().len(), |e| e.rendered().triangles().len());
+        Ok(Puppet {
+            rest,
+            embedding,
+            placed: PlacedPins::default(),
+            simulation_targets: Vec::new(),
+            rendered,
+            pinned: None,
+            targets: Vec::new(),
+            rotations: Vec::new(),
+            starch: Vec::new(),
+            depths: vec![0.0; triangles],
+        })
     }
 }

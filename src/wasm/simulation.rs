@@ -1,0 +1,59 @@
+//! The simulation mesh in JS: `mesh.simulation` and `Puppet.register`'s `simulation`
+//! option, `{ vertices, triangles, parent, weights }` as typed arrays. Parsing only: the
+//! meaning and the checks are the core's ([`crate::simulation`]).
+
+use js_sys::{Float64Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+use super::errors::bad_type;
+use super::options::Fields;
+use super::{flat, items, set, Thrown};
+use crate::simulation::Simulation;
+use crate::Mesh;
+
+#[wasm_bindgen(typescript_custom_section)]
+const SIMULATION_TS: &str = r#"
+/** A simulation mesh under a rendered mesh (`mesh.simulation`, `Puppet.register`'s `simulation`
+ *  option): every method solves on it, and each rendered vertex follows its parent simulation
+ *  triangle's affine map, so a rendered triangle inverts only if its parent does. */
+export interface SimulationMesh {
+  /** The simulation mesh's rest vertices `[x0, y0, …]`, in the rendered mesh's coordinates. */
+  vertices: Float64Array;
+  /** Its triangles `[a0, b0, c0, …]`, counter-clockwise. */
+  triangles: Uint32Array;
+  /** One simulation triangle per rendered vertex. */
+  parent: Uint32Array;
+  /** Three barycentric weights per rendered vertex, in its parent (summing to 1). */
+  weights: Float64Array;
+}
+"#;
+
+/// `simulation` as the JS object [`SimulationMesh`] describes.
+pub(crate) fn simulation_object(simulation: &Simulation) -> JsValue {
+    let object = js_sys::Object::new();
+    set(&object, "vertices", &flat::<Float64Array, 2>(simulation.mesh().vertices()).into());
+    set(&object, "triangles", &flat::<Uint32Array, 3>(simulation.mesh().triangles()).into());
+    set(&object, "parent", &Uint32Array::from(simulation.parent()).into());
+    set(&object, "weights", &flat::<Float64Array, 3>(simulation.weights()).into());
+    object.into()
+}
+
+/// Reads a [`SimulationMesh`] object carrying `rendered`, validated by [`Simulation::new`]
+/// (errors name `simulation.parent`, `simulation.weights`, …).
+pub(crate) fn read_simulation(value: &JsValue, rendered: &Mesh) -> Result<Simulation, Thrown> {
+    if !value.is_object() {
+        return Err(bad_type("simulation", "an object", value));
+    }
+    let fields = Fields::open(value, &["vertices", "triangles", "parent", "weights"])?;
+    let get = |key: &'static str| -> Result<JsValue, Thrown> {
+        fields
+            .get(key)?
+            .ok_or_else(|| bad_type(&format!("simulation.{key}"), "a typed array", &JsValue::UNDEFINED))
+    };
+    let vertices = items::<Float64Array, 2>("simulation.vertices", &get("vertices")?)?;
+    let triangles = items::<Uint32Array, 3>("simulation.triangles", &get("triangles")?)?;
+    let parent = items::<Uint32Array, 1>("simulation.parent", &get("parent")?)?;
+    let weights = items::<Float64Array, 3>("simulation.weights", &get("weights")?)?;
+    let mesh = Mesh::new(vertices, triangles)?;
+    Ok(Simulation::new(mesh, parent.into_iter().map(|[p]| p).collect(), weights, rendered)?)
+}
