@@ -203,7 +203,10 @@ impl JsMesh {
     /// finer picture that solves at this mesh's cost. A mesh that already has a simulation
     /// mesh keeps it. Throws `bad-option` for another `k` or a result of more than 2²²
     /// vertices.
-    pub fn refine(&self, k: JsValue) -> Result<JsMesh, Thrown> {
+    pub fn refine(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] k: JsValue,
+    ) -> Result<JsMesh, Thrown> {
         let factor = k.as_f64().filter(|x| x.fract() == 0.0 && (1.0..=64.0).contains(x));
         let Some(factor) = factor else {
             return Err(Error::BadOption {

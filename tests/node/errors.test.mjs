@@ -158,7 +158,7 @@ code("bad-option", () => {
   throws(() => Mesh.fromImage(opaque(8, 8), 8, 8, { minArea: -1 }), "bad-option", { option: "minArea", value: -1 }, /^option minArea: -1 /);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { spacing: Infinity }), "bad-option", { option: "spacing", value: Infinity }, /^option spacing: Infinity /);
   // What only the binding sees: unknown keys, wrong types.
-  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight, method, iterations, preserveArea, termWeights, budgetMs, maxSolves, regularization\)$/);
+  throws(() => Puppet.register(v, t, { handleweight: 3 }), "bad-option", { option: "handleweight", value: 3 }, /^options: unknown option "handleweight" \(known: weights, handleWeight, method, iterations, preserveArea, termWeights, budgetMs, maxSolves, regularization, simulation\)$/);
   throws(() => Puppet.register(v, t, { weights: "harmonic" }), "bad-option", { option: "weights", value: "harmonic" }, /^option weights: "harmonic" is not "uniform" or "cotangent"$/);
   throws(() => Puppet.register(v, t, { handleWeight: "500" }), "bad-option", { option: "handleWeight", value: "500" }, /^option handleWeight: expected a number, got string$/);
   throws(() => Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 0, 4]), [], { maxVertices: 2.5 }), "bad-option", { option: "maxVertices", value: 2.5 }, /^option maxVertices: 2\.5 is not a whole number/);
@@ -308,6 +308,25 @@ code("flipped-triangles", () => {
   assert.equal(blender.poseCount, 0);
   assert.equal(blender.addPose(mirror, { flipped: "clamp" }), 0);
   blender.free();
+});
+
+code("bad-simulation", () => {
+  const mesh = Mesh.fromOutline(new Float64Array([0, 0, 8, 0, 8, 6, 0, 6]), [], { spacing: 2 });
+  const fine = mesh.refine(2);
+  const s = fine.simulation;
+  const parent = s.parent.slice();
+  parent[3] = 1e6;
+  throws(
+    () => Puppet.register(fine.vertices, fine.triangles, { simulation: { ...s, parent } }),
+    "bad-simulation",
+    { field: "simulation.parent", index: 3 },
+    /^simulation\.parent\[3\]: triangle 1000000 is out of range/,
+  );
+  const weights = s.weights.slice();
+  weights[0] = 2;
+  throws(() => Blender.register(fine.vertices, fine.triangles, { simulation: { ...s, weights } }), "bad-simulation", { field: "simulation.weights", index: 0 });
+  fine.free();
+  mesh.free();
 });
 
 code("bad-pose", () => {

@@ -523,8 +523,11 @@ impl Injective {
             self.evaluate(targets, rotations);
             let _ = budget.lap();
             let step = t * largest;
+            // A step cut short (by the budget or the conjugate gradients' cap) says little
+            // about how far the minimiser is: only a complete one settles the pose.
+            let complete = stop == Stop::Converged;
             if step <= self.settled
-                || (step <= self.visibly_settled && self.lag(targets) <= self.pin_tolerance)
+                || (complete && step <= self.visibly_settled && self.lag(targets) <= self.pin_tolerance)
             {
                 self.converged = true;
                 break;
