@@ -245,6 +245,7 @@ fn track_document_at(method: &str, rate: usize) -> Document {
         picture: None,
         meshing: None,
         mesh: MeshJson { vertices, triangles, uvs: None },
+        simulation: None,
         puppet: Some(PuppetJson {
             method: Some(method.into()),
             weights: None,
@@ -431,9 +432,9 @@ fn named_errors_for_bad_documents() {
         assert!(text.contains(from), "{from}");
         Player::from_json(&text.replacen(from, to, 1)).unwrap_err()
     };
-    let e = with("\"version\":1", "\"version\":2");
+    let e = with("\"version\":2", "\"version\":3");
     assert_eq!(e.code(), "bad-version", "{e}");
-    assert!(e.to_string().contains("version: 2 is not a version"), "{e}");
+    assert!(e.to_string().contains("version: 3 is not a version"), "{e}");
     assert_eq!(with("\"format\":\"bunraku-puppet\"", "\"format\":\"lottie\"").code(), "bad-document");
     let e = with("\"mesh\":", "\"mash\":");
     assert_eq!(e.code(), "bad-document");

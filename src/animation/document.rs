@@ -11,8 +11,12 @@ use crate::error::{Quoted, Result};
 /// The `format` of every puppet document.
 pub const FORMAT: &str = "bunraku-puppet";
 
-/// The `version` this library reads and writes.
-pub const VERSION: u32 = 1;
+/// The newest `version` this library reads: 2, which adds `simulation`. Version 1
+/// documents keep loading (and are written back as they were read).
+pub const VERSION: u32 = 2;
+
+/// The oldest `version` this library reads.
+pub const MIN_VERSION: u32 = 1;
 
 /// A puppet document: a picture, its mesh, how it is puppeteered, and its animation.
 /// Optional fields are `None` when absent and are then not written, so a document read
@@ -25,7 +29,7 @@ pub const VERSION: u32 = 1;
 pub struct Document {
     /// Always [`FORMAT`], `"bunraku-puppet"`.
     pub format: String,
-    /// Always [`VERSION`], 1.
+    /// [`MIN_VERSION`] to [`VERSION`]: 1, or 2 (which may hold `simulation`).
     pub version: u32,
     /// The picture the mesh's `uvs` refer to.
     #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
@@ -35,6 +39,10 @@ pub struct Document {
     pub meshing: Option<MeshingJson>,
     /// The rest mesh itself.
     pub mesh: MeshJson,
+    /// The simulation mesh the rest mesh is nested in (version 2): every method solves on
+    /// it, and `poses` are its positions.
+    #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
+    pub simulation: Option<SimulationJson>,
     /// The deformation method and its options (pin tracks).
     #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub puppet: Option<PuppetJson>,
@@ -133,6 +141,23 @@ pub struct MeshJson {
     /// `[u0, v0, …]`, one pair per vertex (default: normalised by the bounding box).
     #[cfg_attr(not(target_arch = "wasm32"), serde(default, skip_serializing_if = "Option::is_none"))]
     pub uvs: Option<Vec<f64>>,
+}
+
+/// A simulation mesh and the embedding of the rest mesh in it ([`crate::simulation`]), flat
+/// like `mesh.simulation` in the API: stored, never re-derived, so that playback does not
+/// depend on the mesher.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
+#[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]
+pub struct SimulationJson {
+    /// `[x0, y0, …]`, the simulation mesh's rest vertices.
+    pub vertices: Vec<f64>,
+    /// `[a0, b0, c0, …]`, its triangles.
+    pub triangles: Vec<u32>,
+    /// One simulation triangle per vertex of `mesh`.
+    pub parent: Vec<u32>,
+    /// Three barycentric weights per vertex of `mesh`.
+    pub weights: Vec<f64>,
 }
 
 /// `Puppet.register`'s method and options.
@@ -288,7 +313,7 @@ pub struct WeightsJson {
 
 /// Checks a document's header: `format` is [`FORMAT`] and `version` is [`VERSION`]
 /// (`None`: the field is missing). Errors: [`crate::Error::BadDocument`], with
-/// [`DocumentFault::Version`] for a number other than 1.
+/// [`DocumentFault::Version`] for a number other than 1 or 2.
 pub(crate) fn check_header(format: Option<&str>, version: Option<f64>) -> Result<()> {
     match format {
         Some(FORMAT) => {}
@@ -302,12 +327,12 @@ pub(crate) fn check_header(format: Option<&str>, version: Option<f64>) -> Result
         }
     }
     match version {
-        Some(v) if v == VERSION as f64 => Ok(()),
+        Some(v) if (MIN_VERSION as f64..=VERSION as f64).contains(&v) && v.fract() == 0.0 => Ok(()),
         Some(v) => Err(fault_at(
             DocumentFault::Version,
             "version".into(),
             v,
-            "is not a version this library reads (it reads version 1)",
+            "is not a version this library reads (it reads versions 1 and 2)",
         )),
         None => Err(fault(DocumentFault::Structure, "version".into(), "is missing or not a number".into())),
     }

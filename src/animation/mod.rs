@@ -11,18 +11,20 @@
 //! | `track` | [`Track`]: time-stamped targets and rotations per pin; linear playback |
 //! | `document` | [`Document`]: the JSON document, its header and field checks |
 //! | `player` | [`Player`]: positions at any time, through a [`crate::Pinned`] or a [`crate::Blender`] |
+//! | `carried` | a document's simulation mesh: what the player solves on, gathered back to the mesh |
 //!
 //! Every sampled value at a sample's time is that sample exactly, and linear in time
 //! between two samples; stateless methods then give the same positions for the same time
 //! whatever the frame rate (the injective method: see [`Player`]).
 
+mod carried;
 mod document;
 mod player;
 mod track;
 
 pub use document::{
     BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson, PuppetJson,
-    StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, VERSION,
+    SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MIN_VERSION, VERSION,
 };
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
 pub use track::{Track, TrackOptions};

@@ -2,15 +2,16 @@
 
 use super::document::{check_header, Document, PinsJson, PuppetJson, TrackJson, WeightsJson};
 use super::track::parse_kind;
+use super::{carried, Track, TrackOptions};
 use super::{
     check_finite_values, check_len, check_times, check_values, fault, fault_at, lerp, segment, DocumentFault,
 };
-use super::{Track, TrackOptions};
 use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
 use crate::deform::PoseState;
 use crate::deform::{Method, Overlap, Starch};
 use crate::error::{Error, Quoted, Result};
 use crate::meshing::ShapeMesh;
+use crate::simulation::{Embedding, PlacedPins};
 use crate::{EdgeWeights, Handle, Mesh, Options, Pin, Pinned, Rest, Rotation};
 
 /// The injective method's counted budget per update in a [`Player`] when the document
@@ -65,6 +66,9 @@ pub enum Mode {
 pub struct Player {
     document: Document,
     mesh: Mesh,
+    /// The simulation mesh the engine solves on, when the document has one, with a buffer
+    /// of its positions to gather from.
+    carrier: Option<Box<(Embedding, Vec<[f64; 2]>)>>,
     uvs: Vec<[f32; 2]>,
     depths: Vec<f32>,
     duration: f64,
@@ -83,6 +87,8 @@ enum Engine {
 #[derive(Debug)]
 struct Driven {
     pinned: Pinned,
+    /// On a simulation mesh: the pins as placed there, and their targets.
+    placed: Option<(PlacedPins, Vec<[f64; 2]>)>,
     track: Track,
     targets: Vec<[f64; 2]>,
     rotations: Vec<Rotation>,
@@ -167,31 +173,31 @@ impl Player {
             .flatten()
             .map(|o| Overlap { at: o.at, depth: o.depth, extent: o.extent })
             .collect();
-        let depths = if overlap.is_empty() {
-            vec![0.0; mesh.triangles().len()]
-        } else {
-            let locator = crate::locate::Locator::new(&mesh);
-            let graph = crate::deform::geodesic::Graph::new(&mesh);
-            crate::deform::starch::triangle_depths(&mesh, &graph, &|p| locator.locate(&mesh, p), &overlap)?
-        };
+        let embedding = carried::embedding(d, &mesh)?;
+        let depths = carried::depths(&mesh, embedding.as_ref(), &overlap)?;
+        let solved = embedding.as_ref().map_or(&mesh, |e| e.simulation().mesh());
         let (engine, end) = match mode {
             Mode::Still => (Engine::Still, 0.0),
             Mode::Track => {
                 let json = d.track.as_ref().ok_or(Error::EmptyTrack)?;
-                let driven = drive(&mesh, d, json)?;
+                let driven = drive(solved, d, json, embedding.as_ref())?;
                 let end = driven.track.end();
                 (Engine::Track(Box::new(driven)), end)
             }
             Mode::Weights => {
                 let json = d.weights.as_ref().ok_or(Error::EmptyTrack)?;
-                let blended = blend(&mesh, d, json)?;
+                let blended = blend(solved, d, json)?;
                 let end = blended.times.last().copied().unwrap_or(0.0);
                 (Engine::Weights(Box::new(blended)), end)
             }
         };
+        let carrier = embedding.map(|e| {
+            let n = e.simulation().mesh().vertices().len();
+            Box::new((e, vec![[0.0; 2]; n]))
+        });
         let duration = d.duration.unwrap_or(end.max(0.0));
         let looping = d.looping.unwrap_or(false);
-        Ok(Player { document, mesh, uvs, depths, duration, looping, engine })
+        Ok(Player { document, mesh, carrier, uvs, depths, duration, looping, engine })
     }
 
     /// [`Document::from_json`] and [`Player::new`]. (Native only.)
@@ -253,9 +259,14 @@ impl Player {
             return Err(Error::CountMismatch { what: "output points", got: out.len(), expected: n });
         }
         let t = if self.looping && self.duration > 0.0 { t.rem_euclid(self.duration) } else { t };
+        // On a simulation mesh the engine solves into its buffer, gathered to `out` after.
+        let solved: &mut [[f64; 2]] = match &mut self.carrier {
+            Some(c) => &mut c.1,
+            None => out,
+        };
         match &mut self.engine {
-            Engine::Still => out.copy_from_slice(self.mesh.vertices()),
-            Engine::Track(d) => d.positions_into(t, out)?,
+            Engine::Still => {}
+            Engine::Track(d) => d.positions_into(t, solved)?,
             Engine::Weights(b) => {
                 let (k, s) = segment(&b.times, t);
                 let p = b.weights.len();
@@ -263,8 +274,13 @@ impl Player {
                     let a = b.values[k * p + i];
                     *w = if s == 0.0 { a } else { lerp(a, b.values[(k + 1) * p + i], s) };
                 }
-                b.blender.blend_into(&b.weights, out)?;
+                b.blender.blend_into(&b.weights, solved)?;
             }
+        }
+        match (&self.engine, &self.carrier) {
+            (Engine::Still, _) => out.copy_from_slice(self.mesh.vertices()),
+            (_, Some(c)) => c.0.gather(&c.1, out),
+            (_, None) => {}
         }
         Ok(())
     }
@@ -283,9 +299,23 @@ impl Driven {
             return self.interpolated(t, out);
         } else {
             self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
-            self.pinned.update_with(&self.targets, &self.rotations)?;
+            self.update()?;
         }
         out.copy_from_slice(self.pinned.positions());
+        Ok(())
+    }
+
+    /// One update at the current targets (moved onto the simulation mesh's pins when the
+    /// pins were placed there).
+    fn update(&mut self) -> Result<()> {
+        match &mut self.placed {
+            None => self.pinned.update_with(&self.targets, &self.rotations)?,
+            Some((placed, mapped)) => {
+                crate::deform::check_targets(&self.targets, placed.pins.len())?;
+                placed.targets(&self.targets, &self.rotations, mapped);
+                self.pinned.update_with(mapped, &self.rotations)?
+            }
+        };
         Ok(())
     }
 
@@ -326,7 +356,7 @@ impl Driven {
             self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
             // One update (its counted budget), not held to convergence: a frame's cost stays
             // bounded, and the method keeps every triangle's orientation at every step.
-            self.pinned.update_with(&self.targets, &self.rotations)?;
+            self.update()?;
             out.copy_from_slice(self.pinned.positions());
         }
         Ok(())
@@ -371,7 +401,7 @@ impl Driven {
     /// Held updates at the current targets until the injective method converges.
     fn settle(&mut self) -> Result<()> {
         for _ in 0..INJECTIVE_ROUNDS {
-            self.pinned.update_with(&self.targets, &self.rotations)?;
+            self.update()?;
             if self.pinned.report().converged {
                 break;
             }
@@ -380,8 +410,9 @@ impl Driven {
     }
 }
 
-/// The pin track's playback: the pins compiled with the document's method, starch set.
-fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
+/// The pin track's playback: the pins compiled with the document's method on `mesh` (the
+/// simulation mesh of `embedding` when given, the pins placed on it), starch set.
+fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, embedding: Option<&Embedding>) -> Result<Driven> {
     let track = Track::from_json_at(json, "track", &TrackOptions::default())?;
     if track.sample_count() == 0 {
         return Err(fault(DocumentFault::Structure, "track.times".into(), "is empty".into()));
@@ -425,9 +456,15 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
     }
     let options = register_options(d.puppet.as_ref())?;
     let rest = Rest::register(mesh.clone(), options)?;
-    let mut pinned = rest.compile_pins(&pins)?;
-    let starch: Vec<Starch> =
-        d.starch.iter().flatten().map(|s| Starch { at: s.at, amount: s.amount, extent: s.extent }).collect();
+    let placed = embedding.map(|e| e.place_pins(&pins)).transpose()?;
+    let mut pinned = rest.compile_pins(placed.as_ref().map_or(&pins, |p| &p.pins))?;
+    let at = |p: [f64; 2]| embedding.and_then(|e| e.simulation_point(p)).unwrap_or(p);
+    let starch: Vec<Starch> = d
+        .starch
+        .iter()
+        .flatten()
+        .map(|s| Starch { at: at(s.at), amount: s.amount, extent: s.extent })
+        .collect();
     if !starch.is_empty() {
         pinned.set_starch(&starch)?;
     }
@@ -435,6 +472,7 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson) -> Result<Driven> {
     let stride = (track.sample_count() * 16 * mesh.vertices().len()).div_ceil(INJECTIVE_STATE_BYTES).max(1);
     Ok(Driven {
         pinned,
+        placed: placed.map(|p| (p, vec![[0.0; 2]; n])),
         track,
         targets: vec![[0.0; 2]; n],
         rotations: vec![Rotation::default(); n],

@@ -53,7 +53,6 @@ pub(crate) mod two_step;
 pub use clock::set_clock;
 pub use injective::{Report, PIN_TOLERANCE, VISIBLY_SETTLED};
 pub use pin_set::DISC_STIFFNESS;
-#[cfg(target_arch = "wasm32")]
 pub(crate) use pinned::check_targets;
 pub use pinned::{Pinned, PoseState};
 pub use pins::{with_default_radii, Handle, Pin, PinKind, Rotation, Target, DEFAULT_ROTATION_RADIUS};

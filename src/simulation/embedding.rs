@@ -31,6 +31,25 @@ pub struct PlacedPins {
     pub offsets: Vec<[f64; 2]>,
 }
 
+impl PlacedPins {
+    /// The simulation pins' targets for the user's `targets` and `rotations`: each target
+    /// moved by its pin's offset, turned and scaled with an advanced pin (a position pin
+    /// does not know how the shape turns there: its offset, a fraction of a rendered edge,
+    /// moves unturned). Nothing is allocated.
+    pub fn targets(&self, targets: &[[f64; 2]], rotations: &[Rotation], out: &mut [[f64; 2]]) {
+        for (k, ((o, t), d)) in out.iter_mut().zip(targets).zip(&self.offsets).enumerate() {
+            let d = match (self.pins[k].kind, rotations.get(k)) {
+                (PinKind::Advanced, Some(r)) => {
+                    let (s, c) = r.angle.sin_cos();
+                    [r.scale * (c * d[0] - s * d[1]), r.scale * (s * d[0] + c * d[1])]
+                }
+                _ => *d,
+            };
+            *o = [t[0] + d[0], t[1] + d[1]];
+        }
+    }
+}
+
 impl Embedding {
     /// The embedding of `rendered` in `simulation` (validated against it by
     /// [`Simulation::new`]). Errors: [`Error::CountMismatch`] when `simulation` carries
@@ -110,29 +129,6 @@ impl Embedding {
             placed.offsets.push([q[0] - p[0], q[1] - p[1]]);
         }
         Ok(placed)
-    }
-
-    /// The simulation pins' targets for the user's `targets` and `rotations`: each target
-    /// moved by its pin's offset, turned and scaled with an advanced pin (a position pin
-    /// does not know how the shape turns there: its offset, a fraction of a rendered edge,
-    /// moves unturned). Nothing is allocated.
-    pub fn targets(
-        &self,
-        placed: &PlacedPins,
-        targets: &[[f64; 2]],
-        rotations: &[Rotation],
-        out: &mut [[f64; 2]],
-    ) {
-        for (k, ((o, t), d)) in out.iter_mut().zip(targets).zip(&placed.offsets).enumerate() {
-            let d = match (placed.pins[k].kind, rotations.get(k)) {
-                (PinKind::Advanced, Some(r)) => {
-                    let (s, c) = r.angle.sin_cos();
-                    [r.scale * (c * d[0] - s * d[1]), r.scale * (s * d[0] + c * d[1])]
-                }
-                _ => *d,
-            };
-            *o = [t[0] + d[0], t[1] + d[1]];
-        }
     }
 
     /// The rendered positions for the simulation positions `simulated`

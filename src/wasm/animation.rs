@@ -12,7 +12,8 @@ use super::options::Fields as OptionFields;
 use super::{flat, read_exact, typed, Thrown, TypedArray};
 use crate::animation::{
     self, BlendJson, Document, DocumentFault, MeshJson, MeshingJson, Mode, OverlapJson, PictureJson,
-    PinsJson, PoseJson, PuppetJson, StarchJson, TermWeightsJson, Track, TrackJson, TrackOptions, WeightsJson,
+    PinsJson, PoseJson, PuppetJson, SimulationJson, StarchJson, TermWeightsJson, Track, TrackJson,
+    TrackOptions, WeightsJson,
 };
 use crate::{Error, PinKind, Rotation};
 
@@ -60,10 +61,11 @@ export interface WeightsJSON {
   values: number[];
 }
 
-/** A puppet document, version 1: every field is described in docs/puppet-document.md. */
+/** A puppet document, version 1 or 2: every field is described in docs/puppet-document.md. */
 export interface PuppetDocument {
   format: "bunraku-puppet";
-  version: 1;
+  /** 2 for a document with a `simulation` mesh; 1 documents keep loading. */
+  version: 1 | 2;
   /** The picture the `uvs` refer to: a URL relative to the document, or a `data:` URL. */
   picture?: { url: string; width?: number; height?: number };
   /** How the mesh was made (a record; playback never meshes). */
@@ -71,6 +73,9 @@ export interface PuppetDocument {
               alphaThreshold?: number; margin?: number; simplify?: number; minArea?: number };
   /** The rest mesh, flat: `[x0, y0, …]`, `[a0, b0, c0, …]`, `[u0, v0, …]`. */
   mesh: { vertices: number[]; triangles: number[]; uvs?: number[] };
+  /** Version 2: the simulation mesh the mesh is nested in (`mesh.simulation`, flat): every method
+   *  solves on it and `poses` are its positions. */
+  simulation?: { vertices: number[]; triangles: number[]; parent: number[]; weights: number[] };
   /** The method and `Puppet.register`'s options that pin tracks play with. */
   puppet?: { method?: Method; weights?: EdgeWeights; handleWeight?: number; iterations?: number;
              preserveArea?: boolean; termWeights?: TermWeights; maxSolves?: number; regularization?: number };
@@ -337,7 +342,7 @@ impl JsPlayer {
     /// Reads a puppet document (`PuppetDocument`, or its JSON text) and prepares its
     /// playback: checks the header, every field and value, then compiles the pins (a track)
     /// or adds the poses to a blender (weights). Throws, naming the field (`error.field`):
-    /// `bad-version` (a version other than 1), `bad-document` (not JSON, the wrong
+    /// `bad-version` (a version other than 1 or 2), `bad-document` (not JSON, the wrong
     /// `format`, a missing, unknown or mistyped field), `bad-length` (a pose, `uvs` or
     /// track of the wrong length), `non-finite`, and the mesh's, pins' and poses' own
     /// errors (`index-out-of-range`, `handle-outside`, `flipped-triangles`, …).
@@ -627,8 +632,23 @@ impl<'a> Fields<'a> {
 /// A document's fields (the header was checked before).
 fn read_document(object: &JsValue) -> Result<Document, Thrown> {
     let known = [
-        "format", "version", "picture", "meshing", "mesh", "puppet", "pins", "starch", "overlap", "blend",
-        "poses", "track", "weights", "play", "loop", "duration",
+        "format",
+        "version",
+        "picture",
+        "meshing",
+        "mesh",
+        "simulation",
+        "puppet",
+        "pins",
+        "starch",
+        "overlap",
+        "blend",
+        "poses",
+        "track",
+        "weights",
+        "play",
+        "loop",
+        "duration",
     ];
     let f = Fields::open(object, String::new(), &known)?;
     let sub = |key: &str| f.get(key);
@@ -676,6 +696,18 @@ fn read_document(object: &JsValue) -> Result<Document, Thrown> {
             vertices: m.required("vertices", m.numbers("vertices"))?,
             triangles: m.required("triangles", m.wholes("triangles"))?,
             uvs: m.numbers("uvs")?,
+        }
+    };
+    let simulation = match sub("simulation") {
+        None => None,
+        Some(v) => {
+            let m = Fields::open(&v, "simulation".into(), &["vertices", "triangles", "parent", "weights"])?;
+            Some(SimulationJson {
+                vertices: m.required("vertices", m.numbers("vertices"))?,
+                triangles: m.required("triangles", m.wholes("triangles"))?,
+                parent: m.required("parent", m.wholes("parent"))?,
+                weights: m.required("weights", m.numbers("weights"))?,
+            })
         }
     };
     let puppet = match sub("puppet") {
@@ -764,10 +796,11 @@ fn read_document(object: &JsValue) -> Result<Document, Thrown> {
     };
     Ok(Document {
         format: animation::FORMAT.into(),
-        version: animation::VERSION,
+        version: f.number("version")?.map_or(animation::VERSION, |v| v as u32),
         picture,
         meshing,
         mesh,
+        simulation,
         puppet,
         pins,
         starch,

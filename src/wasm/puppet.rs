@@ -360,7 +360,7 @@ impl Puppet {
         };
         // The user's targets are checked as given; the offsets are a fraction of an edge.
         crate::deform::check_targets(&self.targets, self.placed.pins.len())?;
-        e.targets(&self.placed, &self.targets, &self.rotations, &mut self.simulation_targets);
+        self.placed.targets(&self.targets, &self.rotations, &mut self.simulation_targets);
         let simulated = p.update_with(&self.simulation_targets, &self.rotations)?;
         e.gather(simulated, &mut self.rendered);
         Ok(self.rendered.as_flattened())

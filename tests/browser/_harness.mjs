@@ -106,11 +106,16 @@ export const isBackground = ([r, g, b]) => Math.abs(r - 0xf1) <= 6 && Math.abs(g
 /** The stage's box in viewport CSS pixels. */
 export const stageBox = (page) => page.locator("#stage").boundingBox();
 
-/** Moves the density slider to `vertices` and lets it go, as a user does (the page
- *  remeshes on "change"); does not wait for the remesh. */
+/** Moves the detail slider (#density) to `vertices` and lets it go, as a user does (the
+ *  page remeshes on "change"); does not wait for the remesh. The slider is log-scale
+ *  (www/src/detail.ts): its position runs from 0 to its `max`, the vertices from its
+ *  `data-min-vertices` to its `data-max-vertices`; a count of two significant digits in
+ *  that range is shown exactly. */
 export const setDensity = (page, vertices) =>
   page.locator("#density").evaluate((el, n) => {
-    el.value = String(n);
+    const [min, max, steps] = [Number(el.dataset.minVertices), Number(el.dataset.maxVertices), Number(el.max)];
+    const clamped = Math.min(max, Math.max(min, n));
+    el.value = String(Math.round((steps * Math.log(clamped / min)) / Math.log(max / min)));
     el.dispatchEvent(new Event("input", { bubbles: true }));
     el.dispatchEvent(new Event("change", { bubbles: true }));
   }, vertices);

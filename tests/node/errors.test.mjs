@@ -365,7 +365,7 @@ code("bad-document", () => {
 });
 
 code("bad-version", () => {
-  throws(() => Player.load({ ...stillDocument(), version: 2 }), "bad-version", { field: "version", value: 2 }, /^puppet document: version: 2 is not a version this library reads \(it reads version 1\)$/);
+  throws(() => Player.load({ ...stillDocument(), version: 3 }), "bad-version", { field: "version", value: 3 }, /^puppet document: version: 3 is not a version this library reads \(it reads versions 1 and 2\)$/);
 });
 
 test("every ErrorCode of the declarations is tested above (or cannot be triggered)", () => {

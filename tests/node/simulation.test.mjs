@@ -6,7 +6,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { Blender, initSync, Mesh, Puppet } from "../../pkg/bunraku.js";
+import { Blender, initSync, Mesh, Player, Puppet } from "../../pkg/bunraku.js";
 import { character } from "../../benches/_character.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -243,5 +243,36 @@ test("a pin's radius disc moves rigidly, every method", () => {
     assert.ok(out.length === 2 * mesh.vertexCount);
     p.free();
   }
+  mesh.free();
+});
+
+test("a version 2 document with a simulation mesh plays on it and round-trips", () => {
+  const mesh = Mesh.fromOutline(new Float64Array([0, 0, 60, 0, 60, 20, 0, 20]), [], { spacing: 5 }).refine(3);
+  const s = mesh.simulation;
+  const times = [0, 0.5, 1];
+  const targets = [];
+  for (const f of times) targets.push(2, 10, 58, 10 + 15 * f);
+  const doc = {
+    format: "bunraku-puppet",
+    version: 2,
+    mesh: { vertices: Array.from(mesh.vertices), triangles: Array.from(mesh.triangles) },
+    simulation: { vertices: Array.from(s.vertices), triangles: Array.from(s.triangles), parent: Array.from(s.parent), weights: Array.from(s.weights) },
+    puppet: { method: "two-step" },
+    pins: { points: [2, 10, 58, 10] },
+    track: { pins: 2, times, targets },
+  };
+  const player = Player.load(doc);
+  assert.equal(player.vertexCount, mesh.vertexCount);
+  const puppet = Puppet.fromMesh(mesh, { method: "two-step" });
+  puppet.compile(new Float64Array([2, 10, 58, 10]));
+  const out = new Float64Array(2 * mesh.vertexCount);
+  for (const [k, t] of times.entries()) {
+    player.positionsInto(t, out);
+    assert.deepEqual(Array.from(out), Array.from(puppet.update(new Float64Array(targets.slice(4 * k, 4 * k + 4)))));
+  }
+  assert.deepEqual(JSON.parse(JSON.stringify(player)), doc);
+  assert.throws(() => Player.load({ ...doc, version: 1 }), (e) => e.code === "bad-document" && e.field === "simulation");
+  player.free();
+  puppet.free();
   mesh.free();
 });

@@ -1,0 +1,60 @@
+//! A puppet document's simulation mesh (version 2, `simulation`): the player solves on it
+//! and gathers every frame back to the document's mesh ([`crate::simulation`]).
+
+use super::document::{Document, SimulationJson};
+use super::{check_finite_values, check_len, check_values, fault, DocumentFault};
+use crate::deform::geodesic::Graph;
+use crate::deform::starch::triangle_depths;
+use crate::deform::Overlap;
+use crate::error::Result;
+use crate::locate::Locator;
+use crate::simulation::{Embedding, Simulation};
+use crate::Mesh;
+
+/// The document's simulation mesh carrying `mesh`, validated, or `None` without one.
+/// Errors: [`crate::Error::BadDocument`] (`simulation` in a version 1 document, arrays of
+/// the wrong length, non-finite numbers) and the core's checks of the mesh and the
+/// embedding ([`crate::Error::BadSimulation`], …).
+pub(crate) fn embedding(d: &Document, mesh: &Mesh) -> Result<Option<Embedding>> {
+    let Some(SimulationJson { vertices, triangles, parent, weights }) = &d.simulation else {
+        return Ok(None);
+    };
+    if d.version < 2 {
+        let reason = "needs version 2 (version 1 documents have no simulation mesh)".to_string();
+        return Err(fault(DocumentFault::Structure, "simulation".into(), reason));
+    }
+    if vertices.len() % 2 != 0 {
+        let reason = format!("has {} numbers, not pairs [x, y]", vertices.len());
+        return Err(fault(DocumentFault::Length, "simulation.vertices".into(), reason));
+    }
+    if triangles.len() % 3 != 0 {
+        let reason = format!("has {} numbers, not triples [a, b, c]", triangles.len());
+        return Err(fault(DocumentFault::Length, "simulation.triangles".into(), reason));
+    }
+    check_finite_values("simulation.vertices", vertices)?;
+    let n = mesh.vertices().len();
+    check_len("simulation.parent", parent.len(), n)?;
+    check_values("simulation.weights", weights, 3 * n)?;
+    let solved = Mesh::from_flat(vertices, triangles)?;
+    let weights = weights.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let simulation = Simulation::new(solved, parent.clone(), weights, mesh)?;
+    Ok(Some(Embedding::new(mesh.clone(), simulation)?))
+}
+
+/// Each triangle's depth of `mesh` for the overlap regions, measured on the simulation
+/// mesh when there is one (each rendered triangle takes its home's depth).
+pub(crate) fn depths(mesh: &Mesh, embedding: Option<&Embedding>, overlap: &[Overlap]) -> Result<Vec<f32>> {
+    if overlap.is_empty() {
+        return Ok(vec![0.0; mesh.triangles().len()]);
+    }
+    let Some(e) = embedding else {
+        let locator = Locator::new(mesh);
+        return triangle_depths(mesh, &Graph::new(mesh), &|p| locator.locate(mesh, p), overlap);
+    };
+    let solved = e.simulation().mesh();
+    let mapped: Vec<Overlap> =
+        overlap.iter().map(|o| Overlap { at: e.simulation_point(o.at).unwrap_or(o.at), ..*o }).collect();
+    let locator = Locator::new(solved);
+    let per = triangle_depths(solved, &Graph::new(solved), &|p| locator.locate(solved, p), &mapped)?;
+    Ok(e.per_rendered_triangle(&per))
+}
