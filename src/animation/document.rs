@@ -161,7 +161,7 @@ pub struct SimulationJson {
 }
 
 /// `Puppet.register`'s method and options.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 #[cfg_attr(not(target_arch = "wasm32"), derive(Serialize, Deserialize))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(rename_all = "camelCase"))]
 #[cfg_attr(not(target_arch = "wasm32"), serde(deny_unknown_fields))]

@@ -33,8 +33,9 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::meshing::nested::{factor_for, nested_mesh};
 use crate::meshing::outline::{
-    estimate_vertices, inside, mesh_outline, OutlineOptions, DEFAULT_MIN_ANGLE_DEG, MAX_MIN_ANGLE_DEG,
+    estimate_vertices, inside, OutlineOptions, DEFAULT_MIN_ANGLE_DEG, MAX_MIN_ANGLE_DEG,
 };
+use crate::meshing::regions::{merge, mesh_regions};
 use crate::meshing::shape::ShapeMesh;
 use crate::segments::{overlapping_pairs, segment_box, segments_meet};
 use crate::topology::UnionFind;
@@ -249,21 +250,8 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
     let mut attempt = 0;
     let meshes = loop {
         attempt += 1;
-        let o = outline_options(spacing);
-        let mut meshes = Vec::with_capacity(components.len());
-        for (outer, holes) in &components {
-            let hole_loops: Vec<Vec<[f64; 2]>> = holes.iter().map(|&k| simplified[k].clone()).collect();
-            let mesh = match mesh_outline(&simplified[*outer], &hole_loops, &o) {
-                Ok(m) => m,
-                // The simplified loops should always mesh; should they not, use the traced ones.
-                Err(Error::BadOutline { .. }) => {
-                    let raw: Vec<Vec<[f64; 2]>> = holes.iter().map(|&k| loops[k].clone()).collect();
-                    mesh_outline(&loops[*outer], &raw, &o)?
-                }
-                Err(e) => return Err(e),
-            };
-            meshes.push(mesh);
-        }
+        // The simplified loops should always mesh; should they not, the traced ones do.
+        let meshes = mesh_regions(&simplified, &loops, &components, &outline_options(spacing))?;
         let count: usize = meshes.iter().map(|m| m.vertices().len()).sum();
         match options.max_vertices {
             Some(budget) if count > budget => {
@@ -281,18 +269,7 @@ pub fn mesh_image(rgba: &[u8], width: u32, height: u32, options: &ImageOptions) 
     };
 
     // 8. Merge and texture coordinates.
-    let mut vertices = Vec::with_capacity(meshes.iter().map(|m| m.vertices().len()).sum());
-    let mut triangles = Vec::with_capacity(meshes.iter().map(|m| m.triangles().len()).sum());
-    for m in &meshes {
-        let base = vertices.len() as u32;
-        vertices.extend_from_slice(m.vertices());
-        triangles.extend(m.triangles().iter().map(|t| t.map(|v| v + base)));
-    }
-    let mesh = if meshes.len() == 1 {
-        meshes.into_iter().next().ok_or(Error::EmptyMesh)?
-    } else {
-        Mesh::new(vertices, triangles)?
-    };
+    let mesh = merge(meshes)?;
     let uvs = picture_uvs(&mesh, w, h);
     ShapeMesh::new(mesh, uvs)
 }

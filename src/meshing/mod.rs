@@ -15,6 +15,7 @@ pub mod image;
 pub(crate) mod nested;
 pub mod obj;
 pub mod outline;
+mod regions;
 pub mod shape;
 
 pub use image::{mesh_image, test_character, ImageOptions};

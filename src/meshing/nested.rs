@@ -3,10 +3,11 @@
 //! simplified at a coarse tolerance, refined `k × k`, and the refinement's boundary is
 //! snapped back onto the fine outline ([`crate::simulation`]).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::meshing::image::simplify_all;
-use crate::meshing::outline::{estimate_vertices, mesh_outline, OutlineOptions};
+use crate::meshing::outline::{estimate_vertices, OutlineOptions};
+use crate::meshing::regions::{merge, mesh_regions};
 use crate::simulation::refine::{refined_vertex_count, refinement};
 use crate::simulation::snap::{place, snap_refinement, snap_simulation, Arcs};
 use crate::simulation::Simulation;
@@ -48,7 +49,7 @@ pub(crate) fn factor_for(rendered: f64, simulation_vertices: Option<usize>) -> O
 /// cannot: the outline's own points are too many).
 ///
 /// Errors: those of [`mesh_outline`] and [`Mesh::new`] (should the fine loops not mesh),
-/// [`Error::BadSimulation`] should the embedding not validate (never seen).
+/// [`crate::Error::BadSimulation`] should the embedding not validate (never seen).
 pub(crate) fn nested_mesh(
     fine: &[Vec<[f64; 2]>],
     components: &[(usize, Vec<usize>)],
@@ -100,24 +101,8 @@ fn simulation_mesh(
         max_vertices: None,
         simulation_vertices: Some(0),
     };
-    let mut vertices: Vec<[f64; 2]> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    for (outer, holes) in components {
-        let hole_loops: Vec<Vec<[f64; 2]>> = holes.iter().map(|&h| coarse[h].clone()).collect();
-        let mesh = match mesh_outline(&coarse[*outer], &hole_loops, &options) {
-            Ok(m) => m,
-            // Coarse loops that do not mesh (never seen): the fine ones do.
-            Err(Error::BadOutline { .. }) => {
-                let raw: Vec<Vec<[f64; 2]>> = holes.iter().map(|&h| fine[h].clone()).collect();
-                mesh_outline(&fine[*outer], &raw, &options)?
-            }
-            Err(e) => return Err(e),
-        };
-        let base = vertices.len() as u32;
-        vertices.extend_from_slice(mesh.vertices());
-        triangles.extend(mesh.triangles().iter().map(|t| t.map(|v| v + base)));
-    }
-    Mesh::new(vertices, triangles)
+    // Coarse loops that do not mesh (never seen): the fine ones do.
+    merge(mesh_regions(&coarse, fine, components, &options)?)
 }
 
 /// [`nested_mesh`] for the loops of an outline (`outer` and `holes`, already validated by

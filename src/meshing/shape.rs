@@ -99,8 +99,8 @@ impl ShapeMesh {
                 let t = self.mesh.triangles()[p as usize];
                 let mut uv = [0.0f64; 2];
                 for (&v, &wk) in t.iter().zip(w) {
-                    for c in 0..2 {
-                        uv[c] += wk * self.uvs[v as usize][c] as f64;
+                    for (u, &x) in uv.iter_mut().zip(&self.uvs[v as usize]) {
+                        *u += wk * x as f64;
                     }
                 }
                 uv.map(|x| x as f32)

@@ -192,8 +192,8 @@ pub(crate) fn snap_refinement(arcs: &Arcs, placement: &Placement, simulation: &M
     let original = r.vertices.clone();
     let original_weights = r.weights.clone();
     let mut moved = vec![false; r.vertices.len()];
-    for v in 0..r.vertices.len() {
-        let Some((e, t)) = r.on_edge[v] else { continue };
+    for (v, on_edge) in r.on_edge.iter().enumerate() {
+        let Some((e, t)) = *on_edge else { continue };
         let edge = simulation.edges()[e as usize];
         if !edge.is_boundary() {
             continue;

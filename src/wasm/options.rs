@@ -463,7 +463,6 @@ pub(crate) fn image_options(options: &JsValue) -> Result<ImageOptions, Thrown> {
         ],
     )?;
     let mut o = ImageOptions::default();
-    o.simulation_vertices = fields.count("simulationVertices")?;
     if let Some(t) = fields.number("alphaThreshold")? {
         // The core holds a byte: the range is checked here, worded like the core's checks.
         if !(t.fract() == 0.0 && (1.0..=255.0).contains(&t)) {
@@ -478,6 +477,7 @@ pub(crate) fn image_options(options: &JsValue) -> Result<ImageOptions, Thrown> {
     o.min_angle_deg = fields.number("minAngle")?.unwrap_or(o.min_angle_deg);
     o.simplify = fields.number("simplify")?.unwrap_or(o.simplify);
     o.min_area = fields.number("minArea")?.unwrap_or(o.min_area);
+    o.simulation_vertices = fields.count("simulationVertices")?;
     Ok(o)
 }
 
