@@ -7,7 +7,7 @@ use wasm_bindgen::prelude::*;
 use super::errors::{bad_pose_index, bad_type};
 use super::mesh::JsMesh;
 use super::options::{blend_options, pose_options};
-use super::simulation::read_simulation;
+use super::simulation::{mesh_embedding, simulation_option};
 use super::{items, typed, Thrown, TypedArray};
 use crate::blend::Blender;
 use crate::simulation::Embedding;
@@ -59,16 +59,11 @@ impl JsBlender {
         let parsed = blend_options(&options)?;
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
-        let simulation = match options.is_object() {
-            true => js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or(JsValue::UNDEFINED),
-            false => JsValue::UNDEFINED,
-        };
-        if simulation.is_undefined() || simulation.is_null() {
-            return JsBlender::new(Blender::new(vertices, triangles, parsed)?, None);
-        }
         let mesh = Mesh::new(vertices, triangles)?;
-        let simulation = read_simulation(&simulation, &mesh)?;
-        JsBlender::carried(Embedding::new(mesh, simulation)?, parsed)
+        match simulation_option(&options, &mesh)? {
+            None => JsBlender::new(Blender::from_mesh(mesh, parsed)?, None),
+            Some(e) => JsBlender::carried(e, parsed),
+        }
     }
 
     /// A blender for poses of a `Mesh`, on its simulation mesh when it has one
@@ -81,13 +76,9 @@ impl JsBlender {
         #[wasm_bindgen(unchecked_optional_param_type = "BlendOptions")] options: JsValue,
     ) -> Result<JsBlender, Thrown> {
         let parsed = blend_options(&options)?;
-        let shape = &mesh.shape;
-        match shape.simulation() {
-            None => {
-                let m = shape.mesh();
-                JsBlender::new(Blender::new(m.vertices().to_vec(), m.triangles().to_vec(), parsed)?, None)
-            }
-            Some(s) => JsBlender::carried(Embedding::new(shape.mesh().clone(), s.clone())?, parsed),
+        match mesh_embedding(&mesh.shape)? {
+            None => JsBlender::new(Blender::from_mesh(mesh.shape.mesh().clone(), parsed)?, None),
+            Some(e) => JsBlender::carried(e, parsed),
         }
     }
 
@@ -236,8 +227,7 @@ impl JsBlender {
     /// A blender on `embedding`'s simulation mesh.
     fn carried(embedding: Embedding, options: crate::blend::BlendOptions) -> Result<JsBlender, Thrown> {
         let twins = embedding.simulation().twins()?;
-        let m = embedding.simulation().mesh();
-        let blender = Blender::new(m.vertices().to_vec(), m.triangles().to_vec(), options)?;
+        let blender = Blender::from_mesh(embedding.simulation().mesh().clone(), options)?;
         JsBlender::new(blender, Some((embedding, twins)))
     }
 }

@@ -8,7 +8,7 @@ use super::flatten::quality_object;
 use super::mesh::JsMesh;
 use super::options::{method_name, register_options, weights_name};
 use super::pins::{kind_name, overlap, pins, read_rotations, starch};
-use super::simulation::read_simulation;
+use super::simulation::{mesh_embedding, simulation_option};
 use super::{flat, items, read_exact, typed, Thrown, TypedArray};
 use crate::deform::pins::with_default_radii;
 use crate::deform::{Options, Starch};
@@ -64,17 +64,7 @@ impl Puppet {
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
         let mesh = Mesh::new(vertices, triangles)?;
-        let simulation = match options.is_object() {
-            true => js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or(JsValue::UNDEFINED),
-            false => JsValue::UNDEFINED,
-        };
-        let embedding = match simulation.is_undefined() || simulation.is_null() {
-            true => None,
-            false => {
-                let simulation = read_simulation(&simulation, &mesh)?;
-                Some(Embedding::new(mesh.clone(), simulation)?)
-            }
-        };
+        let embedding = simulation_option(&options, &mesh)?;
         Puppet::new(mesh, embedding, parsed)
     }
 
@@ -98,12 +88,7 @@ impl Puppet {
                 "is the mesh's own in Puppet.fromMesh (use Puppet.register to pass another)",
             ));
         }
-        let shape = &mesh.shape;
-        let embedding = match shape.simulation() {
-            Some(s) => Some(Embedding::new(shape.mesh().clone(), s.clone())?),
-            None => None,
-        };
-        Puppet::new(shape.mesh().clone(), embedding, parsed)
+        Puppet::new(mesh.shape.mesh().clone(), mesh_embedding(&mesh.shape)?, parsed)
     }
 
     /// The number of vertices of the simulation mesh every method solves on (the vertex

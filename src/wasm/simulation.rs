@@ -8,7 +8,8 @@ use wasm_bindgen::prelude::*;
 use super::errors::bad_type;
 use super::options::Fields;
 use super::{flat, items, set, Thrown};
-use crate::simulation::Simulation;
+use crate::meshing::ShapeMesh;
+use crate::simulation::{Embedding, Simulation};
 use crate::Mesh;
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -56,4 +57,23 @@ pub(crate) fn read_simulation(value: &JsValue, rendered: &Mesh) -> Result<Simula
     let weights = items::<Float64Array, 3>("simulation.weights", &get("weights")?)?;
     let mesh = Mesh::new(vertices, triangles)?;
     Ok(Simulation::new(mesh, parent.into_iter().map(|[p]| p).collect(), weights, rendered)?)
+}
+
+/// The `simulation` option of a register call's `options` (absent, `undefined` or `null`:
+/// `None`) as the embedding of `mesh` (validated, [`read_simulation`]).
+pub(crate) fn simulation_option(options: &JsValue, mesh: &Mesh) -> Result<Option<Embedding>, Thrown> {
+    if !options.is_object() {
+        return Ok(None);
+    }
+    let value = js_sys::Reflect::get(options, &"simulation".into()).unwrap_or(JsValue::UNDEFINED);
+    if value.is_undefined() || value.is_null() {
+        return Ok(None);
+    }
+    let simulation = read_simulation(&value, mesh)?;
+    Ok(Some(Embedding::new(mesh.clone(), simulation)?))
+}
+
+/// A `Mesh`'s own simulation mesh, as the embedding of its mesh.
+pub(crate) fn mesh_embedding(shape: &ShapeMesh) -> Result<Option<Embedding>, Thrown> {
+    Ok(shape.simulation().map(|s| Embedding::new(shape.mesh().clone(), s.clone())).transpose()?)
 }

@@ -119,7 +119,7 @@ const SETTLED: f64 = 1e-9;
 /// change). Near a point pin the distortion concentrates, the preconditioner converges
 /// slowly there and Newton converges linearly (measured on the 30k character's simulation
 /// mesh: each held frame's steps about 0.75 of the last), so the decrement can take
-/// hundreds of frames to reach [`DECREMENT_TOLERANCE`] while each frame moves the picture
+/// hundreds of frames to reach `DECREMENT_TOLERANCE` while each frame moves the picture
 /// by a fraction of a pixel; what such a geometric tail still has to move is a few times
 /// the last step, well under a pixel.
 pub const VISIBLY_SETTLED: f64 = 1e-4;
