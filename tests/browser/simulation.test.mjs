@@ -112,6 +112,43 @@ test("the detail setting reaches 100,000 vertices; at 30,000 the gingerbread is 
   await context.close();
 });
 
+test("a large picture is drawn with fewer triangles, the same picture as its rendered mesh's (which draws while overlap depths order it)", { timeout: TIMEOUT }, async (t) => {
+  const { page, context, errors } = await openDemo(demo);
+  await setDensity(page, 30000);
+  await settled(page);
+  const mesh = await hook(page, "mesh");
+  t.diagnostic(`${mesh.triangles} rendered triangles drawn as ${mesh.drawTriangles}`);
+  assert.ok(mesh.drawTriangles < mesh.triangles / 4, `${mesh.drawTriangles} triangles draw the ${mesh.triangles}-triangle mesh`);
+  await hidePins(page);
+  const hand = (await pins(page))[1];
+  await drag(page, hand, { x: hand.x + 40, y: hand.y - 90 });
+  const fewer = await capture(page);
+  // An overlap region (a click with the overlap tool, on the belly) gives the triangles
+  // depths: the renderer then draws every rendered triangle. Nothing overlaps in this pose,
+  // so the picture is the same.
+  await page.locator("#overlap").check();
+  const box = await stageBox(page);
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2 + 40);
+  await settled(page);
+  assert.equal((await hook(page, "regions")).overlap.length, 1, "the overlap region was placed");
+  await page.locator("#tool-pin").check(); // the regions are drawn while their tool is chosen
+  const all = await capture(page);
+  let same = 0, total = 0, cookie = 0;
+  for (let y = box.y + 1; y < box.y + box.height; y += 3) {
+    for (let x = box.x + 1; x < box.x + box.width; x += 3) {
+      const [a, b] = [fewer.at(x, y), all.at(x, y)];
+      total++;
+      if (isCookie(a)) cookie++;
+      if (Math.max(...a.map((v, k) => Math.abs(v - b[k]))) <= 6) same++;
+    }
+  }
+  t.diagnostic(`${same} of ${total} samples the same (${cookie} on the gingerbread)`);
+  assert.ok(cookie > 0.05 * total, "the gingerbread is drawn");
+  assert.ok(same >= 0.998 * total, `the draw triangles and the rendered mesh draw the same picture at ${same} of ${total} samples`);
+  assert.deepEqual(errors, []);
+  await context.close();
+});
+
 test("the simulation mesh toggle draws the simulation mesh's deformed wireframe over the picture, in its own colour", { timeout: TIMEOUT }, async () => {
   const { page, context, errors } = await openDemo(demo);
   await setDensity(page, 30000);

@@ -33,7 +33,7 @@ import { diagonal } from "../suite/metrics.mjs";
  * which runs the injective method with the default `budgetMs: 8` and with maxSolves
  * 8, 12, 16 and 24 side by side: see CALIBRATION below.
  */
-const MAX_SOLVES = 20;
+const MAX_SOLVES = 16;
 /** The sizes run (rendered vertices, about); BUNRAKU_SCALE_SIZES=3000,30000,100000 changes them. */
 const SIZES = (process.env.BUNRAKU_SCALE_SIZES ?? "3000,30000").split(",").map(Number);
 const LAG_HELD = 0.01;

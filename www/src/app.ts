@@ -5,8 +5,14 @@
 // view) arrives, so a slow solve never holds the pins back and a frame without one costs
 // only the overlay. While the injective method has not converged (a pin lags behind its
 // target), the page keeps sending the same targets, one update after another, until it
-// has; the flip count is asked for a few times a second while posing, and once the pose
-// is still.
+// has; the flip count is asked for a few times a second while posing (less often for
+// large meshes), and once the pose is still.
+//
+// The detail (the mesh's vertices) is the slider's, except for a picture the user opens:
+// that one opens at its full detail (detail.ts), which the slider then shows. A large
+// mesh is solved on a simulation mesh the package chooses; the renderer draws it with the
+// fewer triangles that give the same picture (drawmesh.ts), and the simulation mesh's
+// wireframe is drawn over it on request (simulation.ts).
 //
 // Opens and remeshes get increasing generation numbers when they are asked for, and only
 // the newest one asked for is ever installed, so the last picture opened wins whatever
@@ -17,6 +23,7 @@
 // in the same queue, so an update sent after one sees it.
 
 import type { Answer, PuppetWorker } from "./client.js";
+import { fullDetail } from "./detail.js";
 import { exportWithOverlays } from "./exporter.js";
 import { FrameLoop, type SolveStamp } from "./frames.js";
 import { anchorAt, follow, turnAt, type Anchor } from "./locate.js";
@@ -25,8 +32,9 @@ import { pictureDataURL, pictureFromURL, type Picture } from "./picture.js";
 import type { PinBoard, Tool } from "./pointer.js";
 import { toError, type DocumentData, type Method, type OpenBody, type OpenResult, type PinKind, type PinPlan, type RegisterOptions } from "./protocol.js";
 import { Regions, starchPerTriangle, type RegionKind } from "./regions.js";
-import { hasDepth, type PictureRenderer } from "./renderer.js";
+import { hasDepth, showMesh, type PictureRenderer } from "./renderer.js";
 import { newVersion, Rig, turns, type Pin } from "./rig.js";
+import { SimulationView } from "./simulation.js";
 import type { Status } from "./status.js";
 import { View } from "./view.js";
 
@@ -36,7 +44,7 @@ export interface AppParts {
   overlay: Overlay;
   status: Status;
   worker: PuppetWorker;
-  /** Target vertex count of a picture's mesh. */
+  /** Target vertex count of a picture's mesh (the detail setting). */
   density: number;
   /** How updates compute the shape (the method selector, or the page's `?method=`). */
   method: Method;
@@ -46,8 +54,11 @@ export interface AppParts {
 export const FIRST_PICTURE_MARK = "bunraku:first-picture";
 
 
-/** How often the flip count is measured while the pose changes (it costs O(n)). */
+/** How often the flip count is measured while the pose changes (it costs O(n): about
+ *  15 ms at 30,000 vertices, so larger meshes are measured less often, 250 ms per 10,000
+ *  vertices). */
 const FLIPS_EVERY_MS = 250;
+const flipsEvery = (vertices: number): number => FLIPS_EVERY_MS * Math.max(1, vertices / 10_000);
 /** A pin further than this (CSS pixels) from its target lags: it gets a line to it. */
 const LAG_SHOWN = 1;
 /** How often playback asks the worker for a pose (ms): a 60 Hz frame. */
@@ -86,7 +97,7 @@ export class App implements PinBoard {
   private generation = 0;
   /** The newest open of a new picture, until it is answered: a density change meanwhile
    *  applies to it rather than to the picture it replaces. */
-  private opening: { generation: number; source: Promise<Picture>; pins: PinFractions | undefined } | null = null;
+  private opening: { generation: number; source: Promise<Picture>; pins: PinFractions | undefined; fullDetail: boolean } | null = null;
   /** Opens (decoding included) and compiles not answered yet. */
   private busy = 0;
   private readonly solving = { dirty: false, inFlight: false, scheduled: false };
@@ -120,6 +131,10 @@ export class App implements PinBoard {
   playsEnded = 0;
   /** Told when the poses, recording or playback change (the panel redraws). */
   onAnimationChange: () => void = () => {};
+  /** Told when a picture opened at its full detail sets the detail (the slider shows it). */
+  onDetailChange: (vertices: number) => void = () => {};
+  /** The simulation mesh's wireframe, while it is shown. */
+  private readonly simulation = new SimulationView();
   /** Where each pin of the set shown is on the rest mesh, to draw the pins on poses the
    *  puppet did not solve (blends, playback). */
   private anchors: { rig: Rig; version: number; anchors: (Anchor | null)[] } | null = null;
@@ -161,13 +176,14 @@ export class App implements PinBoard {
   }
 
   /** Makes the picture `source` resolves to the puppet: meshes it, registers it and pins
-   *  it — at `pins` (fractions of its width and height) or automatically. Its turn is
-   *  taken now, so a later open wins even if this picture decodes last. On error (the
-   *  decode's or the library's) the page says why and keeps the previous picture.
-   *  Resolves to whether this picture was installed. */
-  async openPicture(source: Picture | Promise<Picture>, pins?: PinFractions): Promise<boolean> {
+   *  it — at `pins` (fractions of its width and height) or automatically; with
+   *  `fullDetail`, at the picture's full detail (detail.ts), which becomes the detail
+   *  setting once it is in. Its turn is taken now, so a later open wins even if this
+   *  picture decodes last. On error (the decode's or the library's) the page says why and
+   *  keeps the previous picture. Resolves to whether this picture was installed. */
+  async openPicture(source: Picture | Promise<Picture>, pins?: PinFractions, options: { fullDetail?: boolean } = {}): Promise<boolean> {
     const generation = ++this.generation;
-    const opening = { generation, source: Promise.resolve(source), pins };
+    const opening = { generation, source: Promise.resolve(source), pins, fullDetail: options.fullDetail ?? false };
     this.opening = opening;
     this.busy++;
     try {
@@ -184,7 +200,12 @@ export class App implements PinBoard {
       const kinds = Array.from({ length: (rests?.length ?? 0) / 2 }, () => "position" as const);
       const rotations = Float64Array.from(kinds.flatMap(() => [0, 1]));
       const plan: PinPlan = rests ? { kind: "at", rests, kinds, targets: rests.slice(), rotations } : { kind: "auto" };
-      const outcome = await this.mesh(generation, picture, plan, { starch: [], overlap: [] }, { refitted: `${picture.name}: its pins do not fit; pinned automatically` });
+      const detail = opening.fullDetail ? fullDetail(picture.pixels) : this.density;
+      const outcome = await this.mesh(generation, picture, plan, { starch: [], overlap: [] }, { refitted: `${picture.name}: its pins do not fit; pinned automatically` }, detail);
+      if (outcome === "installed" && detail !== this.density) {
+        this.density = detail;
+        this.onDetailChange(detail);
+      }
       return outcome === "installed";
     } finally {
       if (this.opening === opening) this.opening = null;
@@ -193,9 +214,10 @@ export class App implements PinBoard {
     }
   }
 
-  /** Remeshes with about `vertices` vertices, keeping the pins and the pose (new automatic
-   *  pins if the old ones do not fit the new mesh). Resolves to false, with the reason on
-   *  the page, when the picture cannot be meshed so (the mesh and the density stay). */
+  /** Remeshes with about `vertices` vertices (the detail), keeping the pins and the pose
+   *  (new automatic pins if the old ones do not fit the new mesh). Resolves to false, with
+   *  the reason on the page, when the picture cannot be meshed so (the mesh and the detail
+   *  stay). A picture still opening opens at this detail instead of its full one. */
   async setDensity(vertices: number): Promise<boolean> {
     const previous = this.density;
     this.density = vertices;
@@ -218,7 +240,7 @@ export class App implements PinBoard {
     const previous = this.register;
     this.register = { ...previous, method };
     if (this.opening) {
-      void this.openPicture(this.opening.source, this.opening.pins);
+      void this.openPicture(this.opening.source, this.opening.pins, { fullDetail: this.opening.fullDetail });
       return true;
     }
     const rig = this.rig;
@@ -249,6 +271,13 @@ export class App implements PinBoard {
 
   showWireframe(on: boolean): void {
     this.show.wireframe = on;
+    this.frames.request();
+  }
+
+  /** Draws the simulation mesh (deformed) over the picture, or stops. */
+  showSimulation(on: boolean): void {
+    this.simulation.on = on;
+    this.fetchSimulation();
     this.frames.request();
   }
 
@@ -423,6 +452,7 @@ export class App implements PinBoard {
 
   setDragged(ids: ReadonlySet<number>): void {
     this.dragged = ids;
+    if (ids.size === 0) this.measureFlips(); // let go: the flip count of the pose now
     this.frames.request();
   }
 
@@ -545,6 +575,7 @@ export class App implements PinBoard {
       return a ? follow(positions, rig.triangles, a) : p.target;
     }));
     rig.shownVersion = rig.version;
+    this.simulation.unsolved();
     this.spare = null;
     this.fresh = { solveMs: ms, roundTripMs: performance.now() - sent };
     this.lastSolveMs = ms;
@@ -774,16 +805,16 @@ export class App implements PinBoard {
     }
   }
 
-  /** Asks the worker for generation `generation` of `picture` and installs it if it is
-   *  still the newest asked for when the answer comes. */
-  private async mesh(generation: number, picture: Picture, pins: PinPlan, regions: OpenBody["regions"], wording: Wording): Promise<Outcome> {
+  /** Asks the worker for generation `generation` of `picture` (about `detail` vertices)
+   *  and installs it if it is still the newest asked for when the answer comes. */
+  private async mesh(generation: number, picture: Picture, pins: PinPlan, regions: OpenBody["regions"], wording: Wording, detail = this.density): Promise<Outcome> {
     const { width, height, data } = picture.pixels;
     this.status.info(`meshing ${picture.name}…`);
     // The pixels are copied into the message: the page keeps its own for the texture.
     const answer = await this.worker.call("open", {
       generation,
       picture: { width, height, data },
-      maxVertices: this.density,
+      maxVertices: detail,
       register: this.register,
       pins,
       version: newVersion(),
@@ -813,8 +844,7 @@ export class App implements PinBoard {
     const rig = new Rig(picture, opened);
     const old = this.rig;
     if (old?.picture !== picture) this.renderer.setPicture(picture.pixels);
-    this.renderer.setMesh(rig.triangles, rig.uvs);
-    this.renderer.setDepth(rig.depth);
+    showMesh(this.renderer, rig);
     this.overlay.setEdges(rig.edges);
     this.regions.adopt(rig.rest, rig.triangles, opened.regions);
     if (old && this.live) this.release(old.generation);
@@ -827,7 +857,7 @@ export class App implements PinBoard {
     this.onAnimationChange();
     this.selected = null;
     this.lastSolveMs = opened.stats.solveMs;
-    this.status.mesh(picture.name, rig.vertexCount, rig.triangleCount);
+    this.status.mesh(picture.name, rig.vertexCount, rig.triangleCount, rig.simulationVertices);
     if (opened.pinned === "none") this.status.error(opened.warning ? toError(opened.warning) : "", `${picture.name}: no starting pins`);
     else if (opened.warning) this.status.error(toError(opened.warning), wording.refitted);
     else if (opened.regionWarning) this.status.error(toError(opened.regionWarning), "the starch and overlap regions do not fit the new mesh; removed");
@@ -843,6 +873,19 @@ export class App implements PinBoard {
     this.flips.stale = true;
     this.pump();
     this.measureFlips();
+    this.fetchSimulation();
+  }
+
+  /** Asks for the simulation mesh of the picture shown, while it is drawn. */
+  private fetchSimulation(): void {
+    const rig = this.rig;
+    if (!rig || !this.live || !this.simulation.needs(rig.generation)) return;
+    this.busy++;
+    void this.simulation.fetch(this.worker, rig.generation).then(() => {
+      this.busy--;
+      this.frames.request();
+      this.checkSettled();
+    });
   }
 
   private release(generation: number): void {
@@ -902,7 +945,7 @@ export class App implements PinBoard {
         this.regions.overlap.confirm(sent);
         if (rig === this.rig) {
           rig.depth = answer.result.depth;
-          this.renderer.setDepth(rig.depth);
+          showMesh(this.renderer, rig);
           this.pictureDirty = true;
         }
       } else if (this.regions.overlap.reject(sent) && answer.status === "error" && rig === this.rig) {
@@ -915,13 +958,15 @@ export class App implements PinBoard {
   }
 
   /** Asks for the flip count of the newest pose: at once when the pose is still, else at
-   *  most every FLIPS_EVERY_MS. */
+   *  most every FLIPS_EVERY_MS (more for large meshes). Still means nothing in flight or
+   *  waiting, and no pin held by a pointer: between the frames of a drag, nothing is in
+   *  flight either. */
   private measureFlips(): void {
     const f = this.flips;
     const rig = this.rig;
     if (!f.stale || f.inFlight || !rig || !this.live) return this.checkSettled();
-    const wait = f.at + FLIPS_EVERY_MS - performance.now();
-    if ((this.solving.inFlight || this.solving.dirty) && wait > 0) {
+    const wait = f.at + flipsEvery(rig.vertexCount) - performance.now();
+    if ((this.solving.inFlight || this.solving.dirty || this.dragged.size > 0) && wait > 0) {
       if (!f.timer) {
         f.timer = window.setTimeout(() => {
           f.timer = 0;
@@ -963,7 +1008,7 @@ export class App implements PinBoard {
     this.spare = null;
     const sent = performance.now();
     void this.worker
-      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, rotations: rig.rotations, out, time: sent / 1000 }, [out.buffer])
+      .call("update", { generation: rig.generation, version: rig.version, targets: rig.targets, rotations: rig.rotations, out, time: sent / 1000, simulation: this.simulation.on }, [out.buffer])
       .then((answer: Answer<"update">) => {
         s.inFlight = false;
         if (answer.status === "ok" && rig === this.rig && answer.result.positions.length === n) {
@@ -973,6 +1018,7 @@ export class App implements PinBoard {
           rig.pinPositions = pinPositions;
           rig.shownVersion = version;
           rig.converged = stats.converged;
+          this.simulation.solved(rig.generation, answer.result.simulationPositions);
           this.fresh = { solveMs: stats.solveMs, roundTripMs: performance.now() - sent };
           this.lastSolveMs = stats.solveMs;
           this.pictureDirty = true;
@@ -1057,7 +1103,7 @@ export class App implements PinBoard {
         this.pictureDirty = false;
         this.renderer.draw(rig.positions, this.view.deviceTransform(this.size.dpr));
       }
-      this.overlay.draw(rig.positions, this.view, this.pinMarks(rig), this.regionMarks(rig), this.show);
+      this.overlay.draw(rig.positions, this.view, this.pinMarks(rig), this.regionMarks(rig), this.show, this.simulation.marks(rig.generation));
     } catch (e) {
       this.status.error(e);
       return solve;

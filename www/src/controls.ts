@@ -1,15 +1,16 @@
 // The toolbar and the page as a drop target: open a picture (file picker or drag and
-// drop), mesh density, the method, the kind of new pins, the tool (pins, starch, overlap)
-// with the starch amount and overlap depth of new regions, wireframe and pin toggles,
-// reset pose, export PNG (with or without the overlays).
+// drop), the detail (the mesh's vertices, a log-scale slider: detail.ts), the method, the kind of new pins, the tool (pins, starch, overlap)
+// with the starch amount and overlap depth of new regions, wireframe, simulation mesh and
+// pin toggles, reset pose, export PNG (with or without the overlays).
 
+import { detailAt, positionOf } from "./detail.js";
 import { METHODS, PIN_KINDS, type Method, type PinKind } from "./protocol.js";
 import type { Tool } from "./pointer.js";
 import type { RegionKind } from "./regions.js";
 
 export interface ControlActions {
   openFile(file: File): void;
-  /** Resolves to false when the density was refused (the slider goes back). */
+  /** Resolves to false when the detail was refused (the slider goes back). */
   setDensity(vertices: number): Promise<boolean>;
   /** Resolves to false when the method was refused (the selector goes back). */
   setMethod(method: Method): Promise<boolean>;
@@ -19,6 +20,7 @@ export interface ControlActions {
   setAmount(kind: RegionKind, value: number): void;
   clearRegions(): void;
   showWireframe(on: boolean): void;
+  showSimulation(on: boolean): void;
   showPins(on: boolean): void;
   resetPose(): void;
   exportPNG(overlays: boolean): void;
@@ -35,6 +37,7 @@ export interface ControlElements {
   amounts: Record<RegionKind, { input: HTMLInputElement; value: HTMLOutputElement }>;
   clearRegions: HTMLButtonElement;
   wireframe: HTMLInputElement;
+  simulation: HTMLInputElement;
   pins: HTMLInputElement;
   reset: HTMLButtonElement;
   export: HTMLButtonElement;
@@ -43,14 +46,26 @@ export interface ControlElements {
   dropZone: HTMLElement;
 }
 
-export function attachControls(el: ControlElements, actions: ControlActions): void {
+/** What the page changes on the toolbar itself. */
+export interface Controls {
+  /** Shows `vertices` on the detail slider as the accepted detail (a picture opened at its
+   *  full detail). */
+  showDetail(vertices: number): void;
+}
+
+/** The vertex count the detail slider shows. */
+export function sliderDetail(density: HTMLInputElement): number {
+  return detailAt(Number(density.value), Number(density.max));
+}
+
+export function attachControls(el: ControlElements, actions: ControlActions): Controls {
   el.file.addEventListener("change", () => {
     const file = el.file.files?.[0];
     if (file) actions.openFile(file);
     el.file.value = ""; // choosing the same file again loads it again
   });
 
-  const showDensity = () => (el.densityValue.value = el.density.value);
+  const showDensity = () => (el.densityValue.value = String(sliderDetail(el.density)));
   showDensity();
   el.density.addEventListener("input", showDensity);
   // Remesh when the slider is let go, not at every step on the way. A refusal puts the
@@ -60,7 +75,7 @@ export function attachControls(el: ControlElements, actions: ControlActions): vo
   el.density.addEventListener("change", () => {
     const value = el.density.value;
     const change = ++changes;
-    void actions.setDensity(Number(value)).then((ok) => {
+    void actions.setDensity(sliderDetail(el.density)).then((ok) => {
       if (ok) accepted = value;
       else if (change === changes) {
         el.density.value = accepted;
@@ -100,6 +115,7 @@ export function attachControls(el: ControlElements, actions: ControlActions): vo
   el.clearRegions.addEventListener("click", () => actions.clearRegions());
 
   el.wireframe.addEventListener("change", () => actions.showWireframe(el.wireframe.checked));
+  el.simulation.addEventListener("change", () => actions.showSimulation(el.simulation.checked));
   el.pins.addEventListener("change", () => actions.showPins(el.pins.checked));
   el.reset.addEventListener("click", () => actions.resetPose());
   el.export.addEventListener("click", () => actions.exportPNG(el.exportOverlays.checked));
@@ -130,6 +146,15 @@ export function attachControls(el: ControlElements, actions: ControlActions): vo
     const file = e.dataTransfer?.files[0];
     if (file) actions.openFile(file);
   });
+
+  return {
+    showDetail(vertices) {
+      el.density.value = String(positionOf(vertices, Number(el.density.max)));
+      accepted = el.density.value;
+      changes++; // an answer still due for an earlier move no longer puts the slider back
+      showDensity();
+    },
+  };
 }
 
 /** Saves `blob` as a file called `name` (an <a download> click). */

@@ -8,6 +8,7 @@
 import type { App } from "./app.js";
 import type { PuppetWorker } from "./client.js";
 import type { FrameRecord } from "./frames.js";
+import type { Overlay } from "./overlay.js";
 import { anchorAt, follow } from "./locate.js";
 import { pictureFromURL } from "./picture.js";
 import type { Method, OverlapRegion, PinKind, StarchRegion } from "./protocol.js";
@@ -43,7 +44,12 @@ export interface DemoHook {
   /** Picture pixels → viewport CSS pixels. */
   toClient(x: number, y: number): [number, number];
   picture(): { name: string; width: number; height: number } | null;
-  mesh(): { vertices: number; triangles: number } | null;
+  /** The mesh shown: its vertices and triangles, the simulation mesh's vertices (0 when
+   *  it solves on itself), and how many triangles draw it while no depths order them
+   *  (drawmesh.ts). */
+  mesh(): { vertices: number; triangles: number; simulationVertices: number; drawTriangles: number } | null;
+  /** How many simulation mesh edges the last frame drew over the picture (0: none). */
+  simulationEdgesDrawn(): number;
   /** The recent frames (time, solve, round trip and frame-callback durations), oldest first. */
   frames(): FrameRecord[];
   clearFrames(): void;
@@ -72,7 +78,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -104,8 +110,11 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     },
     mesh: () => {
       const c = app.current;
-      return c ? { vertices: c.rig.vertexCount, triangles: c.rig.triangleCount } : null;
+      if (!c) return null;
+      const { rig } = c;
+      return { vertices: rig.vertexCount, triangles: rig.triangleCount, simulationVertices: rig.simulationVertices, drawTriangles: (rig.drawTriangles ?? rig.triangles).length / 3 };
     },
+    simulationEdgesDrawn: () => overlay.simulationEdgesDrawn,
     frames: () => app.frames.history(),
     clearFrames: () => app.frames.clearHistory(),
     pending: () => app.pending(),

@@ -5,7 +5,7 @@
 import { attachAnimation } from "./animation.js";
 import { App } from "./app.js";
 import { PuppetWorker } from "./client.js";
-import { attachControls, download } from "./controls.js";
+import { attachControls, download, sliderDetail } from "./controls.js";
 import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
@@ -34,6 +34,8 @@ async function main(status: Status): Promise<void> {
   const density = element("density", HTMLInputElement);
   const methodSelect = element("method", HTMLSelectElement);
   const pinKind = element("pin-kind", HTMLSelectElement);
+  const simulation = element("simulation-mesh", HTMLInputElement);
+  const overlay = new Overlay(element("overlay", HTMLCanvasElement));
   const query = new URLSearchParams(location.search);
   const choice = query.get("renderer") === "2d" ? "2d" : "auto";
   // ?method= chooses the first method (the selector shows it); the injective one else.
@@ -43,15 +45,18 @@ async function main(status: Status): Promise<void> {
   app = new App({
     stage,
     renderer,
-    overlay: new Overlay(element("overlay", HTMLCanvasElement)),
+    overlay,
     status,
     worker,
-    density: Number(density.value),
+    density: sliderDetail(density),
     method,
   });
   const theApp = app;
   // What a reload kept of the form.
   theApp.pinKind = PIN_KINDS.find((k) => k === pinKind.value) ?? "position";
+  // ?simulation=1 shows the simulation mesh from the start.
+  if (query.get("simulation") === "1") simulation.checked = true;
+  theApp.showSimulation(simulation.checked);
 
   const measure = () => {
     const r = wrap.getBoundingClientRect();
@@ -61,7 +66,7 @@ async function main(status: Status): Promise<void> {
   new ResizeObserver(measure).observe(wrap);
 
   attachPointer(stage, theApp);
-  attachControls(
+  const controls = attachControls(
     {
       file: element("file", HTMLInputElement),
       density,
@@ -75,6 +80,7 @@ async function main(status: Status): Promise<void> {
       },
       clearRegions: element("clear-regions", HTMLButtonElement),
       wireframe: element("wireframe", HTMLInputElement),
+      simulation,
       pins: element("show-pins", HTMLInputElement),
       reset: element("reset", HTMLButtonElement),
       export: element("export", HTMLButtonElement),
@@ -84,7 +90,8 @@ async function main(status: Status): Promise<void> {
     {
       openFile: (file) => {
         status.info(`reading ${file.name}…`);
-        void theApp.openPicture(pictureFromFile(file));
+        // The user's own picture opens at its full detail (detail.ts).
+        void theApp.openPicture(pictureFromFile(file), undefined, { fullDetail: true });
       },
       setDensity: (n) => theApp.setDensity(n),
       setMethod: (m) => theApp.setMethod(m),
@@ -93,6 +100,7 @@ async function main(status: Status): Promise<void> {
       setAmount: (kind, value) => (theApp.amounts[kind] = value),
       clearRegions: () => theApp.clearRegions(),
       showWireframe: (on) => theApp.showWireframe(on),
+      showSimulation: (on) => theApp.showSimulation(on),
       showPins: (on) => theApp.showPins(on),
       resetPose: () => theApp.resetPose(),
       exportPNG: (overlays) => {
@@ -101,6 +109,7 @@ async function main(status: Status): Promise<void> {
       },
     },
   );
+  theApp.onDetailChange = (vertices) => controls.showDetail(vertices);
   const baseName = () => theApp.current?.picture.name.replace(/\.[^.]*$/, "") ?? "bunraku";
   const refresh = attachAnimation(
     {
@@ -140,7 +149,7 @@ async function main(status: Status): Promise<void> {
   theApp.onAnimationChange = () => refresh({ poseCount: theApp.poses.length, recording: theApp.recording, playing: theApp.playing, loop: theApp.loop });
   theApp.onAnimationChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
-  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker);
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 

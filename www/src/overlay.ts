@@ -1,5 +1,7 @@
 // What is drawn over the picture, on its own 2D canvas whatever the picture's renderer:
-// the wireframe of the deformed mesh, starch and overlap regions, and the pins — each by
+// the wireframe of the deformed mesh, the wireframe of the simulation mesh it follows (in
+// another colour, bolder: its triangles hold k × k of the rendered ones), starch and
+// overlap regions, and the pins — each by
 // its kind (a dot for position pins, a rotation ring for bend pins, both for advanced
 // ones), where its material is, with a thin line to its target while it lags.
 
@@ -41,11 +43,23 @@ export const RING_RADIUS = 24;
 export const ringRadius = (scale: number): number => RING_RADIUS * Math.min(4, Math.max(0.5, scale));
 
 const REGION_COLOUR: Record<RegionKind, string> = { starch: "rgba(236, 180, 20, 0.95)", overlap: "rgba(150, 60, 220, 0.95)" };
+const WIREFRAME = { width: 0.75, colour: "rgba(24, 32, 64, 0.55)" };
+/** Magenta: apart from the rendered wireframe, the pins, the regions and the gingerbread's
+ *  colours (its bow tie is teal). */
+const SIMULATION_WIREFRAME = { width: 1.25, colour: "rgba(225, 0, 190, 0.85)" };
+
+/** The simulation mesh as the overlay draws it: each edge once, and its positions. */
+export interface SimulationMarks {
+  readonly edges: Uint32Array;
+  readonly positions: Float64Array;
+}
 
 export class Overlay {
   private readonly ctx: CanvasRenderingContext2D;
   private edges: Uint32Array = new Uint32Array(0); // each mesh edge once: [a0, b0, a1, b1, …]
   private dpr = 1;
+  /** The simulation mesh edges the last frame drew (0 when it drew none). */
+  simulationEdgesDrawn = 0;
 
   constructor(private readonly canvas: HTMLCanvasElement) {
     const ctx = canvas.getContext("2d");
@@ -71,25 +85,33 @@ export class Overlay {
     pins: readonly PinMark[],
     regions: readonly RegionMark[],
     show: { wireframe: boolean; pins: boolean },
+    simulation: SimulationMarks | null = null,
   ): void {
     const { ctx, edges } = this;
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.clearRect(0, 0, this.canvas.width, this.canvas.height);
     ctx.setTransform(this.dpr, 0, 0, this.dpr, 0, 0);
-    if (show.wireframe && edges.length > 0) {
-      const { scale: s, x: ox, y: oy } = view;
-      ctx.beginPath();
-      for (let k = 0; k < edges.length; k += 2) {
-        const a = 2 * edges[k], b = 2 * edges[k + 1];
-        ctx.moveTo(ox + s * positions[a], oy + s * positions[a + 1]);
-        ctx.lineTo(ox + s * positions[b], oy + s * positions[b + 1]);
-      }
-      ctx.lineWidth = 0.75;
-      ctx.strokeStyle = "rgba(24, 32, 64, 0.55)";
-      ctx.stroke();
-    }
+    if (show.wireframe) this.stroke(edges, positions, view, WIREFRAME);
+    this.simulationEdgesDrawn = simulation ? this.stroke(simulation.edges, simulation.positions, view, SIMULATION_WIREFRAME) : 0;
     for (const region of regions) this.region(region);
     if (show.pins) for (const pin of pins) this.pin(pin);
+  }
+
+  /** Strokes `edges` (`[a0, b0, …]`) at `positions` (picture pixels); returns how many. */
+  private stroke(edges: Uint32Array, positions: Float64Array, view: View, style: { width: number; colour: string }): number {
+    const { ctx } = this;
+    const { scale: s, x: ox, y: oy } = view;
+    if (edges.length === 0) return 0;
+    ctx.beginPath();
+    for (let k = 0; k < edges.length; k += 2) {
+      const a = 2 * edges[k], b = 2 * edges[k + 1];
+      ctx.moveTo(ox + s * positions[a], oy + s * positions[a + 1]);
+      ctx.lineTo(ox + s * positions[b], oy + s * positions[b + 1]);
+    }
+    ctx.lineWidth = style.width;
+    ctx.strokeStyle = style.colour;
+    ctx.stroke();
+    return edges.length / 2;
   }
 
   private region({ kind, x, y, radius, placing }: RegionMark): void {

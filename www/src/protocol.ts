@@ -24,6 +24,11 @@
 // Updates answer with the pins' points on the result (where the material is) and the
 // iterative methods' lag and convergence; the flip count is its own request, asked for a
 // few times a second (it costs O(n)).
+//
+// The simulation mesh: a large picture's puppet solves on a coarse mesh under the rendered
+// one (the package chooses it). The page draws it only while asked to: the `simulation`
+// request brings its edges and positions once, and updates that ask for them
+// (`simulation: true`) bring its positions with the rendered ones.
 
 /** Straight RGBA pixels, row by row from the top (ImageData's layout). */
 export interface PicturePixels {
@@ -84,7 +89,8 @@ export interface Regions {
 export interface OpenBody {
   readonly generation: number;
   readonly picture: PicturePixels;
-  /** About this many vertices (Mesh.fromImage's `maxVertices`). */
+  /** About this many vertices (Mesh.fromImage's `maxVertices`; the package adds a
+   *  simulation mesh when it is large). */
   readonly maxVertices: number;
   readonly register: RegisterOptions;
   readonly pins: PinPlan;
@@ -105,6 +111,12 @@ export interface OpenResult {
   readonly uvs: Float32Array;
   /** Each edge once, `[a0, b0, …]`, for the wireframe. */
   readonly edges: Uint32Array;
+  /** The vertices of the simulation mesh the puppet solves on (`puppet.simulationVertexCount`),
+   *  or 0 when it solves on the rendered mesh itself. */
+  readonly simulationVertices: number;
+  /** Fewer triangles that draw the same picture (drawmesh.ts), or null: the renderer
+   *  draws these while no triangle depths order the mesh. */
+  readonly drawTriangles: Uint32Array | null;
   /** The method the puppet was registered with (`puppet.method`). */
   readonly method: Method;
   /** The compiled pins, in handle order. */
@@ -154,6 +166,8 @@ export interface UpdateBody {
   /** The page's clock when the targets were sent (seconds, `performance.now() / 1000`):
    *  while recording, the worker records them at this time. */
   readonly time?: number;
+  /** Send the simulation mesh's positions back too (while the page draws it). */
+  readonly simulation?: boolean;
 }
 
 /** What one update reports. */
@@ -173,6 +187,21 @@ export interface UpdateResult {
   readonly positions: Float64Array;
   readonly pinPositions: Float64Array;
   readonly stats: SolveStats;
+  /** The simulation mesh's positions (`puppet.simulationPositions`) when asked for. */
+  readonly simulationPositions: Float64Array | null;
+}
+
+export interface SimulationBody {
+  readonly generation: number;
+}
+
+export interface SimulationResult {
+  readonly generation: number;
+  /** Each edge of the simulation mesh once (`puppet.simulationTriangles`' edges), `[a0, b0,
+   *  …]`, and its positions now (`puppet.simulationPositions`). A puppet without one
+   *  solves on the rendered mesh: these are then its edges and positions. */
+  readonly edges: Uint32Array;
+  readonly positions: Float64Array;
 }
 
 export interface StarchBody {
@@ -331,6 +360,8 @@ export interface Calls {
   overlap: { body: OverlapBody; result: OverlapResult };
   /** The current positions' flip count. */
   quality: { body: QualityBody; result: QualityResult };
+  /** The simulation mesh's edges and positions, for its wireframe. */
+  simulation: { body: SimulationBody; result: SimulationResult };
   /** Test builds only: throws what a wasm trap throws, so that the page's recovery can be
    *  tested; production workers drop it. */
   crash: { body: null; result: null };

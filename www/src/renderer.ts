@@ -6,8 +6,10 @@ import type { Affine } from "./view.js";
 import { createGLRenderer } from "./gl.js";
 import { createCanvasRenderer } from "./fallback.js";
 
+import { hasDepth } from "../../js/gl.js";
+
 /** Whether `depth` orders anything (the package's WebGL2 helper, js/gl.ts, decides it). */
-export { hasDepth } from "../../js/gl.js";
+export { hasDepth };
 
 export interface PictureRenderer {
   /** "WebGL2" or "Canvas 2D", shown on the page. */
@@ -30,6 +32,18 @@ export interface PictureRenderer {
 }
 
 export type RendererChoice = "auto" | "2d";
+
+/** Gives `renderer` the mesh to draw for a picture: its draw triangles (the same picture
+ *  with fewer triangles: drawmesh.ts) while no depths order the triangles, else every
+ *  rendered triangle in the depths' order. Call it again when the depths change. */
+export function showMesh(
+  renderer: PictureRenderer,
+  mesh: { readonly triangles: Uint32Array; readonly drawTriangles: Uint32Array | null; readonly uvs: Float32Array; readonly depth: Float32Array },
+): void {
+  const ordered = hasDepth(mesh.depth);
+  renderer.setMesh(mesh.drawTriangles && !ordered ? mesh.drawTriangles : mesh.triangles, mesh.uvs);
+  renderer.setDepth(ordered ? mesh.depth : null);
+}
 
 /** WebGL2 unless `choice` is "2d" (the page's `?renderer=2d`) or the canvas has no WebGL2
  *  context (old browsers, disabled GPU features): then Canvas 2D, which loads the wasm

@@ -52,6 +52,11 @@ export class Rig {
   readonly edges: Uint32Array;
   /** The method its puppet was registered with. */
   readonly method: OpenResult["method"];
+  /** The vertices of the simulation mesh its puppet solves on, or 0 when it solves on the
+   *  rendered mesh itself. */
+  readonly simulationVertices: number;
+  /** Fewer triangles that draw the same picture as `triangles` (drawmesh.ts), or null. */
+  readonly drawTriangles: Uint32Array | null;
   /** The pose on screen: the newest positions the worker sent back, and where each pin of
    *  the set they were solved for is on them (`[x0, y0, …]`, `puppet.pinPositions`). */
   positions: Float64Array;
@@ -82,6 +87,8 @@ export class Rig {
     this.uvs = opened.uvs;
     this.edges = opened.edges;
     this.method = opened.method;
+    this.simulationVertices = opened.simulationVertices;
+    this.drawTriangles = opened.drawTriangles;
     this.positions = opened.positions;
     this.pinPositions = opened.pinPositions;
     this.shownVersion = opened.version;

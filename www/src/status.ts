@@ -1,6 +1,6 @@
-// What the page tells the user: pin count, mesh size, flipped triangles, renderer, the
-// worker's solve time and the frame rate (refreshed a few times a second, not every
-// frame), and messages — errors
+// What the page tells the user: pin count, mesh size (and its simulation mesh's), flipped
+// triangles, renderer, the worker's solve time and the frame rate (refreshed a few times
+// a second, not every frame), and messages — errors
 // included (the library's, sent back by the worker, too), so that nothing thrown ends up
 // as an uncaught exception.
 
@@ -43,9 +43,13 @@ export class Status {
     this.el.pins.textContent = String(count);
   }
 
-  mesh(name: string, vertices: number, triangles: number): void {
-    this.el.mesh.textContent = `${name}: ${vertices} vertices, ${triangles} triangles`;
+  /** The mesh shown: its vertices, the simulation mesh's (0: it solves on itself), its
+   *  triangles. */
+  mesh(name: string, vertices: number, triangles: number, simulationVertices = 0): void {
+    const simulation = simulationVertices > 0 ? ` (simulation mesh: ${simulationVertices})` : "";
+    this.el.mesh.textContent = `${name}: ${vertices} vertices${simulation}, ${triangles} triangles`;
     this.el.mesh.dataset.vertices = String(vertices);
+    this.el.mesh.dataset.simulationVertices = String(simulationVertices);
     this.el.mesh.dataset.triangles = String(triangles);
   }
 

@@ -7,8 +7,9 @@
 // TypeError) may have left the wasm instance corrupt, so it is answered as fatal and every
 // later request too: the page then starts a new worker.
 
-import init, { Blender, Mesh, Player, Puppet, Track, type PuppetDocument } from "../../pkg/bunraku.js";
+import init, { Blender, Mesh, Player, Puppet, Track, type PuppetDocument, type SimulationMesh } from "../../pkg/bunraku.js";
 import { autoPins } from "./autopins.js";
+import { drawTriangles } from "./drawmesh.js";
 import { meshEdges } from "./edges.js";
 import {
   errorInfo,
@@ -209,22 +210,31 @@ function open(body: OpenBody): Outcome<OpenResult> {
   const { width, height, data } = body.picture;
   const t0 = performance.now();
   // A spacing of 2 px is only a floor: the vertex budget sets the spacing (a picture too
-  // small for the budget gets fewer vertices).
+  // small for the budget gets fewer vertices). The package chooses the simulation mesh (a
+  // large mesh gets one; `simulationVertices` left out).
   const mesh = Mesh.fromImage(data, width, height, { spacing: 2, maxVertices: body.maxVertices });
   const meshMs = performance.now() - t0;
   try {
-    return build(body, mesh.vertices, mesh.triangles, own(mesh.uvs), meshMs);
+    return build(body, mesh.vertices, mesh.triangles, own(mesh.uvs), meshMs, mesh.simulation);
   } finally {
     mesh.free(); // the puppet has its own copy of the mesh
   }
 }
 
-/** Registers a rest mesh as generation `body.generation` with its first pins and regions. */
-function build(body: Omit<OpenBody, "picture" | "maxVertices">, vertices: Float64Array, triangles: Uint32Array, uvsIn: Float32Array, meshMs: number): Outcome<OpenResult> {
+/** Registers a rest mesh as generation `body.generation` with its first pins and regions,
+ *  solving on `simulation` when there is one. */
+function build(
+  body: Omit<OpenBody, "picture" | "maxVertices">,
+  vertices: Float64Array,
+  triangles: Uint32Array,
+  uvsIn: Float32Array,
+  meshMs: number,
+  simulation: SimulationMesh | null = null,
+): Outcome<OpenResult> {
   let t0 = performance.now();
   const uvs = uvsIn.slice();
   // Cotangent weights suit meshes refined near sharp corners (the picture's outline).
-  const puppet = Puppet.register(vertices, triangles, body.register);
+  const puppet = Puppet.register(vertices, triangles, simulation ? { ...body.register, simulation } : body.register);
   const registerMs = performance.now() - t0;
   try {
     const rest = own(puppet.vertices);
@@ -260,6 +270,7 @@ function build(body: Omit<OpenBody, "picture" | "maxVertices">, vertices: Float6
     puppet.updateInto(pins.targets, positions, pins.rotations);
     const solveMs = performance.now() - t0;
     const edges = meshEdges(triangles);
+    const draw = simulation ? drawTriangles(rest, triangles, uvs, simulation) : null;
     freeHeld(held.get(body.generation));
     held.set(body.generation, {
       puppet,
@@ -284,6 +295,8 @@ function build(body: Omit<OpenBody, "picture" | "maxVertices">, vertices: Float6
       triangles,
       uvs,
       edges,
+      simulationVertices: simulation ? puppet.simulationVertexCount : 0,
+      drawTriangles: draw,
       method: puppet.method,
       pins,
       pinned,
@@ -295,7 +308,9 @@ function build(body: Omit<OpenBody, "picture" | "maxVertices">, vertices: Float6
       pinPositions: own(puppet.pinPositions),
       stats: { meshMs, registerMs, compileMs, ...stats(puppet, solveMs) },
     };
-    return { result, transfer: [rest.buffer, triangles.buffer, uvs.buffer, edges.buffer, positions.buffer] };
+    const transfer: Transferable[] = [rest.buffer, triangles.buffer, uvs.buffer, edges.buffer, positions.buffer];
+    if (draw) transfer.push(draw.buffer);
+    return { result, transfer };
   } catch (e) {
     puppet.free();
     throw e;
@@ -316,7 +331,7 @@ const handlers: Handlers = {
     return { result: { generation, version, compileMs: performance.now() - t0 }, transfer: [] };
   },
 
-  update({ generation, version, targets, rotations, out, time }) {
+  update({ generation, version, targets, rotations, out, time, simulation }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     if (rig.version !== version) return { dropped: `pin set ${version} is not compiled (${rig.version} is)` };
@@ -326,7 +341,18 @@ const handlers: Handlers = {
     const solveMs = performance.now() - t0;
     if (rig.recording && time !== undefined) keyframe(rig, time, out);
     const pinPositions = own(rig.puppet.pinPositions);
-    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs) }, transfer: [out.buffer, pinPositions.buffer] };
+    const simulationPositions = simulation ? own(rig.puppet.simulationPositions) : null;
+    const transfer: Transferable[] = [out.buffer, pinPositions.buffer];
+    if (simulationPositions) transfer.push(simulationPositions.buffer);
+    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs), simulationPositions }, transfer };
+  },
+
+  simulation({ generation }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    const edges = meshEdges(rig.puppet.simulationTriangles);
+    const positions = own(rig.puppet.simulationPositions);
+    return { result: { generation, edges, positions }, transfer: [edges.buffer, positions.buffer] };
   },
 
   reset({ generation }) {
