@@ -3,13 +3,15 @@
 // mesh (the status shows both counts); a drag at 30,000 vertices moves the picture and
 // folds nothing; the "Simulation mesh" toggle (and ?simulation=1) draws the simulation
 // mesh's deformed wireframe over the picture in its own colour, with WebGL2 and Canvas 2D;
-// and a picture the user opens gets its full detail (one vertex per 4 px² of its opaque
-// area). Frames are counted, never timed, so that the tests hold on a busy machine.
+// a picture the user opens gets its full detail (one vertex per 4 px² of its opaque
+// area); and a large puppet's poses, recording and document keep its simulation mesh
+// (a version 2 document, its poses on the simulation mesh). Frames are counted, never timed, so that the tests hold on a busy machine.
 //
 //   node --test tests/browser/
 
 import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
 import { capture, drag, hook, isBackground, isCookie, makePNG, openDemo, setDensity, settled, stageBox, startDemo } from "./_harness.mjs";
 
 const TIMEOUT = 120_000;
@@ -149,7 +151,7 @@ test("a large picture is drawn with fewer triangles, the same picture as its ren
   await context.close();
 });
 
-test("the simulation mesh toggle draws the simulation mesh's deformed wireframe over the picture, in its own colour", { timeout: TIMEOUT }, async () => {
+test("the simulation mesh toggle draws the simulation mesh's deformed wireframe over the picture, in its own colour", { timeout: TIMEOUT }, async (t) => {
   const { page, context, errors } = await openDemo(demo);
   await setDensity(page, 30000);
   await settled(page);
@@ -178,6 +180,7 @@ test("the simulation mesh toggle draws the simulation mesh's deformed wireframe 
   const box = await stageBox(page);
   const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
   const belly = shown.count(cx, cy, 41, isMagenta);
+  t.diagnostic(`${edges} simulation edges drawn: ${magenta} magenta pixels on the stage's 2-px grid, ${belly} of 41 × 41 around its centre`);
   assert.ok(belly > 100, `${belly} magenta pixels around the stage's centre`);
 
   // It follows the pose: after a drag the lines are where the hand went.
@@ -270,6 +273,94 @@ test("a picture the user opens gets its full detail (one vertex per 4 px² of op
   assert.equal(await detailShown(page), fullDetail(120, 80, block));
   assert.equal((await hook(page, "mesh")).simulationVertices, 0);
   assert.doesNotMatch(await meshInfo(page), /simulation/);
+  assert.deepEqual(errors, []);
+  await context.close();
+});
+
+test("at 20,000 vertices, saved poses blend, a recording plays, and the document holds the simulation mesh (version 2) and opens on it", { timeout: TIMEOUT }, async (t) => {
+  const { page, context, errors } = await openDemo(demo);
+  await setDensity(page, 20000);
+  await settled(page);
+  const mesh = await hook(page, "mesh");
+  assert.ok(mesh.simulationVertices > 0, "a simulation mesh");
+  // Two poses: the rest, and the hand lifted.
+  await page.locator("#save-pose").click();
+  await settled(page);
+  const hand = (await pins(page))[1];
+  await drag(page, hand, { x: hand.x + 30, y: hand.y - 80 });
+  await page.locator("#save-pose").click();
+  await settled(page);
+  assert.equal((await hook(page, "poses")).length, 2, "two poses saved");
+  // They blend (on the simulation mesh, gathered to the rendered one): the slider at 1
+  // gives the second pose back, at 0.5 a pose between the two.
+  const two = await hook(page, "poses");
+  const slide = (v) =>
+    page.locator("#blend").evaluate((el, v) => {
+      el.value = String(v);
+      el.dispatchEvent(new Event("input", { bubbles: true }));
+    }, v);
+  const distance = (a, b) => a.reduce((m, x, k) => Math.max(m, Math.abs(x - b[k])), 0);
+  await slide(1);
+  await settled(page);
+  assert.ok(distance(await hook(page, "positions"), two[1]) < 0.01, "the blend at 1 is the second pose");
+  await slide(0.5);
+  await settled(page);
+  const halfway = await hook(page, "positions");
+  assert.ok(halfway.every(Number.isFinite));
+  assert.ok(distance(halfway, two[0]) > 5 && distance(halfway, two[1]) > 5, "the blend at 0.5 is between the poses");
+  // A short recorded drag back down.
+  await page.locator("#record").click();
+  await settled(page);
+  const from = (await pins(page))[1];
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) {
+    await page.mouse.move(from.x - 3 * k, from.y + 6 * k);
+    await page.waitForTimeout(30);
+  }
+  await page.mouse.up();
+  await settled(page);
+  await page.locator("#record").click();
+  await settled(page);
+  const recorded = await hook(page, "positions");
+  const saved = await hook(page, "poses");
+
+  const [download] = await Promise.all([page.waitForEvent("download"), page.locator("#save-doc").click()]);
+  const text = readFileSync(await download.path(), "utf8");
+  const doc = JSON.parse(text);
+  t.diagnostic(`document: ${(text.length / 1e6).toFixed(1)} MB, version ${doc.version}, ${doc.poses?.length} poses on ${doc.simulation?.vertices.length / 2} simulation vertices`);
+  assert.equal(doc.version, 2);
+  assert.equal(doc.mesh.vertices.length, 2 * mesh.vertices);
+  assert.equal(doc.simulation.vertices.length, 2 * mesh.simulationVertices);
+  assert.equal(doc.simulation.parent.length, mesh.vertices);
+  assert.ok(doc.poses.length >= 3, `${doc.poses.length} poses: the two saved and the recording's`);
+  for (const pose of doc.poses) assert.equal(pose.positions.length, doc.simulation.vertices.length, "poses are on the simulation mesh");
+
+  // Opened again: the same mesh on the same simulation mesh, the user's two poses, and it
+  // plays to where the recording ended.
+  await page.locator("#reset").click();
+  await settled(page);
+  const ended = await hook(page, "playsEnded");
+  await page.setInputFiles("#open-doc", { name: "large.bunraku.json", mimeType: "application/json", buffer: Buffer.from(text) });
+  await page.waitForFunction((n) => window.bunrakuDemo.playsEnded() > n && !window.bunrakuDemo.playing(), ended, { timeout: 60_000 });
+  await settled(page);
+  const reopened = await hook(page, "mesh");
+  assert.equal(reopened.vertices, mesh.vertices);
+  assert.equal(reopened.simulationVertices, mesh.simulationVertices, "the document's puppet solves on its simulation mesh");
+  assert.equal((await hook(page, "poses")).length, 2, "the user's poses");
+  const end = await hook(page, "positions");
+  let off = 0;
+  for (let k = 0; k < end.length; k++) off = Math.max(off, Math.abs(end[k] - recorded[k]));
+  t.diagnostic(`the played document ends ${off.toExponential(2)} px from the recorded pose`);
+  assert.ok(off < 1, `the played document ends ${off} px from the recorded pose`);
+  // The saved poses come back as they were (on the simulation mesh in the file, carried
+  // to the rendered mesh by the nesting).
+  const back = await hook(page, "poses");
+  for (const [k, pose] of back.entries()) {
+    let poseOff = 0;
+    for (let i = 0; i < pose.length; i++) poseOff = Math.max(poseOff, Math.abs(pose[i] - saved[k][i]));
+    assert.ok(poseOff < 1e-6, `pose ${k} comes back ${poseOff} px off`);
+  }
   assert.deepEqual(errors, []);
   await context.close();
 });

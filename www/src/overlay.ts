@@ -45,8 +45,10 @@ export const ringRadius = (scale: number): number => RING_RADIUS * Math.min(4, M
 const REGION_COLOUR: Record<RegionKind, string> = { starch: "rgba(236, 180, 20, 0.95)", overlap: "rgba(150, 60, 220, 0.95)" };
 const WIREFRAME = { width: 0.75, colour: "rgba(24, 32, 64, 0.55)" };
 /** Magenta: apart from the rendered wireframe, the pins, the regions and the gingerbread's
- *  colours (its bow tie is teal). */
-const SIMULATION_WIREFRAME = { width: 1.25, colour: "rgba(225, 0, 190, 0.85)" };
+ *  colours (its bow tie is teal). At most 1 px wide, as the rendered wireframe: Skia draws
+ *  such strokes as hairlines, several times faster than wider ones (a wider stroke of
+ *  the simulation mesh's 10,000 edges cost 50 ms a frame in headless Chromium). */
+const SIMULATION_WIREFRAME = { width: 1, colour: "rgba(225, 0, 190, 0.85)" };
 
 /** The simulation mesh as the overlay draws it: each edge once, and its positions. */
 export interface SimulationMarks {

@@ -11,6 +11,7 @@ import init, { Blender, Mesh, Player, Puppet, Track, type PuppetDocument, type S
 import { autoPins } from "./autopins.js";
 import { drawTriangles } from "./drawmesh.js";
 import { meshEdges } from "./edges.js";
+import { flatSimulation, onRendered, onSimulation, simulationCorners, simulationOf } from "./nesting.js";
 import {
   errorInfo,
   type AnyRequest,
@@ -42,6 +43,11 @@ interface Held {
    *  registration, the compiled pins (rest points and kinds) and the regions. */
   readonly uvs: Float32Array;
   readonly register: OpenBody["register"];
+  /** The simulation mesh the puppet solves on, if any, and the rendered vertex at each of
+   *  its vertices (nesting.ts; null when some has none: documents then hold the rendered
+   *  mesh alone). Blends solve on it; documents (version 2) store it and their poses on it. */
+  readonly simulation: SimulationMesh | null;
+  readonly corners: Uint32Array | null;
   pins: Pick<PinArrays, "rests" | "kinds">;
   regions: { starch: Regions["starch"]; overlap: Regions["overlap"] };
   /** The poses (made on the first saved one) and copies of them for documents. */
@@ -277,6 +283,8 @@ function build(
       version: body.version,
       uvs: uvs.slice(),
       register: body.register,
+      simulation,
+      corners: simulation && simulationCorners(simulation),
       pins: { rests: pins.rests.slice(), kinds: [...pins.kinds] },
       regions: { starch: regions.starch, overlap: regions.overlap },
       blender: null,
@@ -400,7 +408,7 @@ const handlers: Handlers = {
   savePose({ generation, positions }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
-    rig.blender ??= Blender.register(rig.puppet.vertices, rig.puppet.triangles);
+    rig.blender ??= Blender.register(rig.puppet.vertices, rig.puppet.triangles, rig.simulation ? { simulation: rig.simulation } : {});
     rig.blender.addPose(positions); // throws flipped-triangles for a folded pose: not added
     rig.poses.push(positions.slice());
     rig.player = stale(rig.player);
@@ -560,11 +568,15 @@ function stale(player: Player | null): null {
 /** The generation as a puppet document (docs/puppet-document.md). */
 function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): PuppetDocument {
   const puppet = rig.puppet;
+  // Version 2 with the simulation mesh, its poses on it (where every simulation vertex is
+  // a rendered one); else version 1, the rendered mesh alone.
+  const nested = rig.simulation && rig.corners ? { simulation: rig.simulation, corners: rig.corners } : null;
   const document: PuppetDocument = {
     format: "bunraku-puppet",
-    version: 1,
+    version: nested ? 2 : 1,
     ...(picture ? { picture: { url: picture.url, width: picture.width, height: picture.height } } : {}),
     mesh: { vertices: Array.from(puppet.vertices), triangles: Array.from(puppet.triangles), uvs: Array.from(rig.uvs) },
+    ...(nested ? { simulation: flatSimulation(nested.simulation) } : {}),
     puppet: { method: puppet.method, weights: rig.register.weights },
     ...(rig.pins.kinds.length > 0 ? { pins: { points: Array.from(rig.pins.rests), kinds: [...rig.pins.kinds] } } : {}),
     ...(rig.regions.starch.length > 0 ? { starch: rig.regions.starch.map((r) => ({ at: [r.at[0], r.at[1]] as [number, number], amount: r.amount, extent: r.extent })) } : {}),
@@ -573,7 +585,7 @@ function documentOf(rig: Held, picture: { url: string; width: number; height: nu
   };
   const keys = rig.keys;
   const poses = [...rig.poses, ...(keys?.poses ?? [])];
-  if (poses.length > 0) document.poses = poses.map((p) => ({ positions: Array.from(p) }));
+  if (poses.length > 0) document.poses = poses.map((p) => ({ positions: nested ? onSimulation(nested.corners, p) : Array.from(p) }));
   if (keys && keys.times.length > 0) {
     const users = rig.poses.map(() => 0);
     document.weights = { times: [...keys.times], values: keys.rows.flatMap((row) => [...users, ...row]) };
@@ -610,12 +622,15 @@ function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult> {
       starch: (doc.starch ?? []).map((r) => ({ at: [r.at[0], r.at[1]], amount: r.amount, extent: r.extent })),
       overlap: (doc.overlap ?? []).map((r) => ({ at: [r.at[0], r.at[1]], depth: r.depth, extent: r.extent })),
     };
+    // Version 2: the simulation mesh, and poses on it.
+    const simulation = simulationOf(doc);
     const built = build(
       { generation: body.generation, version: body.version, register, pins: rests.length > 0 ? { kind: "at", rests, kinds, targets, rotations } : { kind: "auto" }, regions },
       player.vertices,
       player.triangles,
       player.uvs,
       performance.now() - t0,
+      simulation,
     );
     if ("dropped" in built) {
       player.free();
@@ -623,13 +638,13 @@ function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult> {
     }
     const rig = held.get(body.generation);
     if (!rig) throw new Error("the document's puppet was not kept");
-    const all = (doc.poses ?? []).map((pose) => Float64Array.from(pose.positions));
+    const all = (doc.poses ?? []).map((pose) => (simulation ? onRendered(simulation, pose.positions) : Float64Array.from(pose.positions)));
     // The poses the weight track uses animate; the others are the user's poses to blend.
     const weights = doc.weights;
     const animated = all.map((_, k) => weights !== undefined && weights.times.some((_, s) => weights.values[s * all.length + k] !== 0));
     const poses = all.filter((_, k) => !animated[k]);
     if (poses.length > 0) {
-      rig.blender = Blender.register(player.vertices, player.triangles, doc.blend);
+      rig.blender = Blender.register(player.vertices, player.triangles, { ...doc.blend, ...(simulation ? { simulation } : {}) });
       for (const [k, pose] of all.entries()) {
         if (animated[k]) continue;
         const { positions: _, ...options } = doc.poses?.[k] ?? { positions: [] };
