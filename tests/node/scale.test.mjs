@@ -11,8 +11,9 @@
 //     are the simulation positions gathered by `mesh.simulation`'s parents and weights, and
 //     the simulation triangles are all positive after every update;
 //   - pin lag ≤ 1 % of the rest bounding box's diagonal after 8 held updates, ≤ 0.1 % after
-//     30, and `converged` after 30 (TODO lists the cases known not to reach it, with the
-//     figures measured; they run as `todo` tests, reported without failing CI).
+//     30, and `converged` after 30, each a test of its own (TODO lists those known not to be
+//     reached, with the figures measured; they run as `todo` tests, reported without failing
+//     CI).
 // And: a rendered triangle folds only where its parent simulation triangle does (two-step
 // method, which folds); `Puppet.register(v, t)` without `simulation` and `Puppet.fromMesh`
 // of a mesh without one give identical positions, as do `Puppet.fromMesh` of a mesh with
@@ -28,20 +29,45 @@ import { CASES, framesOf, flippedCount, DRAG_UPDATES, EARLY_HOLD, HOLD_UPDATES }
 import { diagonal } from "../suite/metrics.mjs";
 
 /**
- * The counted budget: back-substitutions (budget checks) per update. Measured on this
- * project's 2-core VM (AMD EPYC, Node 20) with `node benches/scale.mjs --sections calibrate`,
- * which runs the injective method with the default `budgetMs: 8` and with maxSolves
- * 8, 12, 16 and 24 side by side: see CALIBRATION below.
+ * The counted budget: budget checks (about one back-substitution each) per update. What the
+ * default 8 ms budget buys on the project's 2-core VM (AMD EPYC, Node 20), measured with
+ * `node benches/scale.mjs --sections calibrate --sizes 3000,30000` (the default budget and
+ * maxSolves 8, 12, 16, 24 side by side on these cases; target/scale-bench.txt has a run):
+ * a held update that has not converged takes a median 9.3 ms of CPU time with maxSolves 16
+ * (6.8–12.9 ms over the cases), 8.0 ms with 12 and 12.2 ms with 24, where the default
+ * budget's held updates take 8.8–10.3 ms of wall-clock time (8 ms plus the conjugate-gradient
+ * step that overshoots it). The VM was shared and loaded then (load average 5–8 on 2 cores),
+ * which halves the CPU an 8 ms budget gets, so its wall-clock figures are no guide; the CPU
+ * time of a counted update hardly depends on the load.
  */
 const MAX_SOLVES = 16;
-/** The sizes run (rendered vertices, about); BUNRAKU_SCALE_SIZES=3000,30000,100000 changes them. */
+/** The sizes run (rendered vertices, about); BUNRAKU_SCALE_SIZES=3000,30000,100000 adds 100k
+ *  (about 90 s more on the VM, so it is left out). */
 const SIZES = (process.env.BUNRAKU_SCALE_SIZES ?? "3000,30000").split(",").map(Number);
 const LAG_HELD = 0.01;
 const LAG_SETTLED = 0.001;
 
-/** Cases known not to reach the lag and convergence targets with MAX_SOLVES (`case@size`:
- *  what was measured): reported as todo. */
-const TODO = {};
+/** Targets of the issue not reached with MAX_SOLVES (`case@size:held8|held30|converged`: what
+ *  was measured, pkg/bunraku_bg.wasm sha256 6743128092a9): these run as todo tests, reported
+ *  without failing CI. The lag figures are fractions of the diagonal. The issue's targets are
+ *  not met until this list is empty. */
+const TODO = {
+  "character-hand@3000:held8": "lag 0.0324 after 8 held updates (at most 0.01)",
+  "character-hand@3000:held30": "lag 0.0235 after 30 held updates (at most 0.001)",
+  "character-hand@3000:converged": "not converged after 30 held updates",
+  "disc-pinch@3000:held8": "lag 0.0134 after 8 held updates (at most 0.01)",
+  "disc-pinch@3000:converged": "not converged after 30 held updates (lag 6.1e-7)",
+  "bar-stretch@3000:held8": "lag 0.0614 after 8 held updates (at most 0.01)",
+  "bar-stretch@3000:held30": "lag 0.00371 after 30 held updates (at most 0.001)",
+  "bar-stretch@3000:converged": "not converged after 30 held updates",
+  "twist-180@3000:converged": "not converged after 30 held updates (lag 4.7e-7)",
+  "character-hand@30000:held8": "lag 0.119 after 8 held updates (at most 0.01)",
+  "character-hand@30000:held30": "lag 0.0915 after 30 held updates (at most 0.001)",
+  "character-hand@30000:converged": "not converged after 30 held updates",
+  "disc-pinch@30000:converged": "not converged after 30 held updates (lag 6.3e-7)",
+  "bar-stretch@30000:converged": "not converged after 30 held updates (lag 2.8e-7)",
+  "twist-180@30000:converged": "not converged after 30 held updates (lag 5.2e-7)",
+};
 
 const cache = new Map();
 /** A case's mesh at a size (a wasm Mesh, kept for the whole file) and its frames. */
@@ -67,6 +93,31 @@ function gatherError(positions, sim, simPositions) {
     worst = Math.max(worst, Math.hypot(x - positions[2 * k], y - positions[2 * k + 1]));
   }
   return worst;
+}
+
+const heldResults = new Map();
+/** The lag (fraction of the diagonal) and `converged` after EARLY_HOLD and HOLD_UPDATES held
+ *  updates of the default method with MAX_SOLVES: run once per case and size. */
+function held(c, size) {
+  const key = `${c.name}@${size}`;
+  if (!heldResults.has(key)) {
+    const { mesh, frames } = setup(c, size);
+    const puppet = Puppet.fromMesh(mesh, { maxSolves: MAX_SOLVES });
+    try {
+      puppet.compile(c.handles);
+      const d = diagonal(mesh.vertices);
+      const r = {};
+      frames.forEach((targets, f) => {
+        puppet.update(targets);
+        if (f + 1 === DRAG_UPDATES + EARLY_HOLD) [r.lag8, r.converged8] = [puppet.lag / d, puppet.converged];
+      });
+      [r.lag30, r.converged30] = [puppet.lag / d, puppet.converged];
+      heldResults.set(key, r);
+    } finally {
+      puppet.free();
+    }
+  }
+  return heldResults.get(key);
 }
 
 for (const size of SIZES)
@@ -107,34 +158,21 @@ for (const size of SIZES)
       }
     });
 
-    test(`${key}: pins within 1 % after 8 held updates, 0.1 % after 30, converged (maxSolves ${MAX_SOLVES})`, { todo: TODO[key] }, () => {
-      const { mesh, frames } = setup(c, size);
-      const puppet = Puppet.fromMesh(mesh, { maxSolves: MAX_SOLVES });
-      try {
-        puppet.compile(c.handles);
-        const d = diagonal(mesh.vertices);
-        const at = {};
-        frames.forEach((targets, f) => {
-          puppet.update(targets);
-          if (f + 1 === DRAG_UPDATES + EARLY_HOLD) at.early = { lag: puppet.lag / d, converged: puppet.converged };
-        });
-        const [lag, converged] = [puppet.lag / d, puppet.converged];
-        const got = `lag ${at.early.lag.toPrecision(3)} × the diagonal after ${EARLY_HOLD} held updates, ${lag.toPrecision(3)} after ${HOLD_UPDATES}, converged: ${converged}`;
-        assert.ok(at.early.lag <= LAG_HELD, `${c.title}: ${got}`);
-        assert.ok(lag <= LAG_SETTLED, `${c.title}: ${got}`);
-        assert.ok(converged, `${c.title}: ${got}`);
-      } finally {
-        puppet.free();
-      }
-    });
+    for (const [what, title, check] of [
+      ["held8", `pins within 1 % of the diagonal after ${EARLY_HOLD} held updates`, (r) => r.lag8 <= LAG_HELD],
+      ["held30", `pins within 0.1 % after ${HOLD_UPDATES} held updates`, (r) => r.lag30 <= LAG_SETTLED],
+      ["converged", `converged after ${HOLD_UPDATES} held updates`, (r) => r.converged30],
+    ])
+      test(`${key}: ${title} (maxSolves ${MAX_SOLVES})`, { todo: TODO[`${key}:${what}`] }, () => {
+        const r = held(c, size);
+        assert.ok(
+          check(r),
+          `${c.title}: lag ${r.lag8.toPrecision(3)} × the diagonal after ${EARLY_HOLD} held updates (converged: ${r.converged8}), ` +
+            `${r.lag30.toPrecision(3)} after ${HOLD_UPDATES} (converged: ${r.converged30})`,
+        );
+      });
   }
 
-// A rendered triangle lies in one parent and moves by its affine map, so it can flip only if
-// that parent does; its vertices' own parents are that parent or touch it (a vertex on a
-// parent's edge or corner may name a neighbour). Checked on the two-step method, which
-// folds the simulation mesh in these cases: every flipped rendered triangle has a vertex
-// whose parent shares a corner with a flipped simulation triangle, and when no simulation
-// triangle is flipped, no rendered one is.
 test("a rendered triangle folds only where its parent simulation triangle does (two-step, which folds)", () => {
   let foldedUpdates = 0;
   for (const c of CASES.filter((x) => x.name === "twist-180" || x.name === "disc-pinch")) {
