@@ -29,6 +29,8 @@ pub struct PlacedPins {
     pub pins: Vec<Pin>,
     /// `simulation point − rendered point`, per pin.
     pub offsets: Vec<[f64; 2]>,
+    /// The radii as given (on the rendered mesh), per pin.
+    pub radii: Vec<f64>,
 }
 
 impl PlacedPins {
@@ -85,7 +87,9 @@ impl Embedding {
         Some(self.simulation.mesh().point_at(l.triangle as usize, l.weights))
     }
 
-    /// Places `pins` (on the rendered mesh) on the simulation mesh. Errors, naming the pin:
+    /// Places `pins` (on the rendered mesh) on the simulation mesh (a pin's radius grows by
+    /// twice its simulation triangle's longest edge, so that its rigid disc carries the
+    /// rendered triangles within the radius). Errors, naming the pin:
     /// [`Error::NonFinite`], [`Error::HandleOutside`], [`Error::BadHandle`] (as
     /// [`crate::Rest::compile`] gives them for the rendered mesh).
     pub fn place_pins(&self, pins: &[Pin]) -> Result<PlacedPins> {
@@ -123,12 +127,26 @@ impl Embedding {
             let p = self.rendered.point_at(at.triangle as usize, at.weights);
             let l = clamped(self.simulation.locate(&self.rendered, &at));
             let q = self.simulation.mesh().point_at(l.triangle as usize, l.weights);
-            placed
-                .pins
-                .push(Pin { at: Handle::Barycentric { triangle: l.triangle, weights: l.weights }, ..*pin });
+            // A disc on the simulation mesh covers the simulation triangles that the
+            // rendered disc reaches into: its radius grows by twice the longest edge of the
+            // pin's simulation triangle (distances along the two meshes' edges differ by
+            // less), so that every rendered triangle within the radius is carried by a
+            // triangle of the rigid disc.
+            let radius =
+                if pin.radius > 0.0 { pin.radius + 2.0 * self.longest_edge(l.triangle) } else { 0.0 };
+            let at = Handle::Barycentric { triangle: l.triangle, weights: l.weights };
+            placed.pins.push(Pin { at, radius, ..*pin });
+            placed.radii.push(pin.radius);
             placed.offsets.push([q[0] - p[0], q[1] - p[1]]);
         }
         Ok(placed)
+    }
+
+    /// The longest edge of simulation triangle `t`.
+    fn longest_edge(&self, t: u32) -> f64 {
+        let m = self.simulation.mesh();
+        let [a, b, c] = m.triangles()[t as usize].map(|v| m.vertices()[v as usize]);
+        [(a, b), (b, c), (c, a)].iter().map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max)
     }
 
     /// The rendered positions for the simulation positions `simulated`

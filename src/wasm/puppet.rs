@@ -268,6 +268,9 @@ impl Puppet {
     /// The compiled pins' radii, in rest units.
     #[wasm_bindgen(getter)]
     pub fn radius(&self) -> Float64Array {
+        if self.embedding.is_some() {
+            return Float64Array::from(&self.placed.radii[..]);
+        }
         let pins = self.pinned.as_ref().map_or(&[][..], |p| p.pins());
         Float64Array::from(&pins.iter().map(|p| p.radius).collect::<Vec<_>>()[..])
     }
