@@ -8,7 +8,7 @@
 // calibration of tests/node/scale.test.mjs), the fidelity of the simulation mesh at 30k
 // against the full-resolution injective solution, the rotation of an advanced pin's
 // neighbourhood, the rigidity of a pin's radius disc, the 100k build costs (in a fresh
-// process), and a summary of every "Must reach" figure of the issue. About 14 minutes on
+// process), and a summary of every "Must reach" figure of the issue. 11–14 minutes on
 // the project's 2-core VM, most of it the full-resolution references of the fidelity table
 // (at most --fidelity-seconds each).
 //

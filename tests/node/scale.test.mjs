@@ -29,18 +29,18 @@ import { CASES, framesOf, flippedCount, DRAG_UPDATES, EARLY_HOLD, HOLD_UPDATES }
 import { diagonal } from "../suite/metrics.mjs";
 
 /**
- * The counted budget: budget checks (about one back-substitution each) per update. What the
- * default 8 ms budget buys on the project's 2-core VM (AMD EPYC, Node 20), measured with
- * `node benches/scale.mjs --sections calibrate --sizes 3000,30000` (the default budget and
- * maxSolves 8, 12, 16, 24 side by side on these cases; target/scale-bench.txt has a run):
- * a held update that has not converged takes a median 9.3 ms of CPU time with maxSolves 16
- * (6.8–12.9 ms over the cases), 8.0 ms with 12 and 12.2 ms with 24, where the default
- * budget's held updates take 8.8–10.3 ms of wall-clock time (8 ms plus the conjugate-gradient
- * step that overshoots it). The VM was shared and loaded then (load average 5–8 on 2 cores),
- * which halves the CPU an 8 ms budget gets, so its wall-clock figures are no guide; the CPU
- * time of a counted update hardly depends on the load.
+ * The counted budget: budget checks (about one back-substitution each) per update, chosen to
+ * do what the default 8 ms budget does on the project's 2-core VM (AMD EPYC, Node 20).
+ * Measured with `node benches/scale.mjs --sections calibrate --sizes 3000,30000` (the default
+ * budget and maxSolves 8, 12, 16, 24 interleaved on these cases; target/scale-bench.txt has
+ * the run, at load average 0.7–3.8): a held update that has not converged takes a median
+ * (over the cases) of 8.97 ms of CPU time with the default budget (8 ms plus the
+ * conjugate-gradient step that overshoots it), 7.24 ms with maxSolves 12 and 10.2 ms with 16;
+ * 14 is the interpolated match (measured alone: 9.7 ms, against 8.2 with 12 and 10.3 with 16,
+ * on a loaded VM). CPU time, not wall-clock time: the VM is shared, and under load an 8 ms
+ * budget gets as little as 5 ms of CPU, while a counted update's CPU time hardly changes.
  */
-const MAX_SOLVES = 16;
+const MAX_SOLVES = 14;
 /** The sizes run (rendered vertices, about); BUNRAKU_SCALE_SIZES=3000,30000,100000 adds 100k
  *  (about 90 s more on the VM, so it is left out). */
 const SIZES = (process.env.BUNRAKU_SCALE_SIZES ?? "3000,30000").split(",").map(Number);
@@ -48,25 +48,28 @@ const LAG_HELD = 0.01;
 const LAG_SETTLED = 0.001;
 
 /** Targets of the issue not reached with MAX_SOLVES (`case@size:held8|held30|converged`: what
- *  was measured, pkg/bunraku_bg.wasm sha256 6743128092a9): these run as todo tests, reported
+ *  was measured, pkg/bunraku_bg.wasm sha256 7112e7a066d4): these run as todo tests, reported
  *  without failing CI. The lag figures are fractions of the diagonal. The issue's targets are
  *  not met until this list is empty. */
 const TODO = {
-  "character-hand@3000:held8": "lag 0.0324 after 8 held updates (at most 0.01)",
-  "character-hand@3000:held30": "lag 0.0235 after 30 held updates (at most 0.001)",
+  "character-hand@3000:held8": "lag 0.106 after 8 held updates (at most 0.01)",
+  "character-hand@3000:held30": "lag 0.0856 after 30 held updates (at most 0.001)",
   "character-hand@3000:converged": "not converged after 30 held updates",
-  "disc-pinch@3000:held8": "lag 0.0134 after 8 held updates (at most 0.01)",
   "disc-pinch@3000:converged": "not converged after 30 held updates (lag 6.1e-7)",
-  "bar-stretch@3000:held8": "lag 0.0614 after 8 held updates (at most 0.01)",
-  "bar-stretch@3000:held30": "lag 0.00371 after 30 held updates (at most 0.001)",
+  "bar-stretch@3000:held8": "lag 0.0648 after 8 held updates (at most 0.01)",
+  "bar-stretch@3000:held30": "lag 0.00508 after 30 held updates (at most 0.001)",
   "bar-stretch@3000:converged": "not converged after 30 held updates",
-  "twist-180@3000:converged": "not converged after 30 held updates (lag 4.7e-7)",
-  "character-hand@30000:held8": "lag 0.119 after 8 held updates (at most 0.01)",
-  "character-hand@30000:held30": "lag 0.0915 after 30 held updates (at most 0.001)",
+  "twist-180@3000:converged": "not converged after 30 held updates (lag 6.8e-7)",
+  "character-hand@30000:held8": "lag 0.124 after 8 held updates (at most 0.01)",
+  "character-hand@30000:held30": "lag 0.0745 after 30 held updates (at most 0.001)",
   "character-hand@30000:converged": "not converged after 30 held updates",
-  "disc-pinch@30000:converged": "not converged after 30 held updates (lag 6.3e-7)",
+  "disc-pinch@30000:held8": "lag 0.0120 after 8 held updates (at most 0.01)",
+  "disc-pinch@30000:held30": "lag 0.00264 after 30 held updates (at most 0.001)",
+  "disc-pinch@30000:converged": "not converged after 30 held updates",
+  "bar-stretch@30000:held8": "lag 0.0154 after 8 held updates (at most 0.01)",
   "bar-stretch@30000:converged": "not converged after 30 held updates (lag 2.8e-7)",
-  "twist-180@30000:converged": "not converged after 30 held updates (lag 5.2e-7)",
+  "twist-180@30000:held30": "lag 0.00331 after 30 held updates (at most 0.001)",
+  "twist-180@30000:converged": "not converged after 30 held updates",
 };
 
 const cache = new Map();
