@@ -47,6 +47,7 @@ import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
 import { character } from "./_character.mjs";
 import { median } from "./_time.mjs";
 import { diagonal, farTriangles, locatePins } from "../tests/suite/metrics.mjs";
+import { circle, polygonArea, rect, spacingFor } from "../tests/suite/cases.mjs";
 
 const root = new URL("../", import.meta.url);
 const wasm = initSync({ module: readFileSync(new URL("pkg/bunraku_bg.wasm", root)) });
@@ -65,26 +66,7 @@ export const PICTURE = 1024;
 // ---------------------------------------------------------------------------------------
 // Shapes and cases
 
-/** A regular polygon of `n` sides and radius `r` about the origin, counter-clockwise. */
-function circle(n, r) {
-  const p = new Float64Array(2 * n);
-  for (let k = 0; k < n; k++) p.set([r * Math.cos((2 * Math.PI * k) / n), r * Math.sin((2 * Math.PI * k) / n)], 2 * k);
-  return p;
-}
-
-const rect = (x0, y0, x1, y1) => new Float64Array([x0, y0, x1, y0, x1, y1, x0, y1]);
-
-function polygonArea(p) {
-  let s = 0;
-  for (let k = 0, m = p.length / 2; k < m; k++) {
-    const j = (k + 1) % m;
-    s += p[2 * k] * p[2 * j + 1] - p[2 * j] * p[2 * k + 1];
-  }
-  return Math.abs(s) / 2;
-}
-
-/** The spacing that meshes a region of `area` to about `n` vertices (as tests/suite/cases.mjs). */
-const spacingFor = (area, n) => Math.sqrt((1.8 * area) / n);
+// circle, rect, polygonArea and spacingFor: the drag suite's (tests/suite/cases.mjs).
 
 /** An outline meshed to about `n` rendered vertices, with `options` added (a wasm Mesh). */
 export const outlineMesh = (outer, n, options = {}) => Mesh.fromOutline(outer, [], { spacing: spacingFor(polygonArea(outer), n), ...options });

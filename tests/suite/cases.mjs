@@ -32,7 +32,7 @@ export const HOLD_UPDATES = 8;
 export const FINE_VERTICES = 30000;
 
 /** A regular polygon of `n` sides and radius `r` about (cx, cy), counter-clockwise. */
-function circle(n, r, cx = 0, cy = 0, phase = 0) {
+export function circle(n, r, cx = 0, cy = 0, phase = 0) {
   const p = new Float64Array(2 * n);
   for (let k = 0; k < n; k++) {
     const a = phase + (2 * Math.PI * k) / n;
@@ -42,10 +42,10 @@ function circle(n, r, cx = 0, cy = 0, phase = 0) {
   return p;
 }
 
-const rect = (x0, y0, x1, y1) => new Float64Array([x0, y0, x1, y0, x1, y1, x0, y1]);
+export const rect = (x0, y0, x1, y1) => new Float64Array([x0, y0, x1, y0, x1, y1, x0, y1]);
 
 /** The polygon's area (shoelace), for the spacing that gives about `n` vertices. */
-function polygonArea(p) {
+export function polygonArea(p) {
   let s = 0;
   for (let k = 0, m = p.length / 2; k < m; k++) {
     const j = (k + 1) % m;
@@ -55,7 +55,7 @@ function polygonArea(p) {
 }
 
 /** The spacing that meshes a region of `area` to about `n` vertices (as benches/_star.mjs). */
-const spacingFor = (area, n) => Math.sqrt((1.8 * area) / n);
+export const spacingFor = (area, n) => Math.sqrt((1.8 * area) / n);
 
 /** Copies a wasm Mesh into plain typed arrays and frees it. */
 function take(mesh) {
