@@ -316,7 +316,7 @@ async function playbackPage(browser, origin, t) {
     assert.ok(blueOff < 0.005, `the user's document plays with its embedded picture: ${(100 * blueOff).toFixed(2)}% differ`);
 
     // A document the player refuses: the page says why.
-    await user.setInputFiles("#open-doc", { name: "future.bunraku.json", mimeType: "application/json", buffer: Buffer.from(JSON.stringify({ ...doc, version: 2 })) });
+    await user.setInputFiles("#open-doc", { name: "future.bunraku.json", mimeType: "application/json", buffer: Buffer.from(JSON.stringify({ ...doc, version: 99 })) });
     const refused = await playback(user, "error");
     assert.match(refused.text, /^could not play future\.bunraku\.json: .*version/);
     await user.close();
