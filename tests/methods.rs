@@ -248,7 +248,7 @@ fn injective_respects_its_budget() {
 
 /// A counted budget (`max_solves`) does the same work whatever the clock: two puppets give
 /// the same bits, and no update makes more back-substitutions than asked (plus the one
-/// that starts each Newton iteration).
+/// that starts each Newton iteration; at least 10 when the targets moved).
 #[test]
 fn injective_counted_budget_is_reproducible() {
     let mesh = disc(16);
@@ -267,10 +267,17 @@ fn injective_counted_budget_is_reproducible() {
     let (a, ra) = run();
     let (b, rb) = run();
     assert_bits_eq(&a, &b, "counted budget");
-    for (x, y) in ra.iter().zip(&rb) {
+    for (f, (x, y)) in (1..).zip(ra.iter().zip(&rb)) {
         assert_eq!((x.iterations, x.solves, x.converged), (y.iterations, y.solves, y.converged));
-        assert!(x.iterations >= 1 || x.converged, "{x:?}");
-        assert!(x.solves <= 7 + x.iterations, "{x:?}");
+        // Every update works (a held one may only continue conjugate gradients that the
+        // budget stopped, with no Newton step finished) or has converged.
+        assert!(x.iterations >= 1 || x.converged || x.solves > 0, "{x:?}");
+        // An update whose targets moved (the first 6) makes at least 10 conjugate-gradient
+        // steps before it looks at its budget (the injective method's MOVED_CG); a held one
+        // may also start an iteration that the budget stops (its conjugate gradients go on
+        // in the next update; `iterations` counts only finished ones).
+        let asked = if f <= 6 { 10 + x.iterations } else { 7 + x.iterations + 1 };
+        assert!(x.solves <= asked, "update {f}: {x:?}");
     }
 }
 

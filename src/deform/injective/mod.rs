@@ -15,11 +15,13 @@
 //!
 //! The search direction is projected Newton: conjugate gradients ([`pcg`]) on the
 //! per-triangle PSD-projected Hessian, preconditioned by step 2's normal matrix `2 A2ᵀA2`
-//! (already factorised at compilation), with an adaptive forcing term `η = 0.1`. An update
-//! runs Newton iterations until it converges or its time budget is spent, so a frame never
-//! stalls; a pin whose target cannot be reached without folding the picture lags behind,
-//! and [`Report::lag`] says by how much. Calling update again with the same targets (idle
-//! frames) continues where the last one stopped.
+//! (already factorised at compilation), with an adaptive forcing term `η ≤ 0.1`, and
+//! `η ≤ 10⁻³` for the step of an update whose targets moved ([`MOVED_FORCING`] says why).
+//! An update runs Newton iterations until it converges or its time budget is spent, so a
+//! frame never stalls; a pin whose target cannot be reached without folding the picture
+//! lags behind, and [`Report::lag`] says by how much. Calling update again with the same
+//! targets (idle frames) continues where the last one stopped, down to conjugate gradients
+//! that the budget interrupted.
 //!
 //! Departures from the research notes' prototype: components with fewer than two pins
 //! move as [conventions](crate::conventions) 8 says (exact rigid motions, which are
@@ -72,13 +74,38 @@ pub struct Report {
 /// The largest forcing term of the inexact Newton steps; it shrinks as the iteration
 /// converges (see [`forcing`]).
 const FORCING: f64 = 0.1;
-/// The most conjugate-gradient steps per Newton step. A smaller cap while the targets move
-/// (6 or 12 were tried) makes each step closer to a preconditioned gradient step, which
-/// the largest flip-free step then cuts to a few percent: the pins fall behind and
-/// rarely catch up (the research notes' "jam"); on the drag suite a cap of 12 left 1–4
-/// cases lagging more than 1% of the diagonal after the 8 held updates, 40 none of the
-/// coarse ones.
+/// The largest forcing term of the Newton step of an update whose targets moved (a drag
+/// frame). Step 2's matrix preconditions the stretched and pinched regions next to the
+/// pins poorly, and the pins' rows (weight `w² = 10⁶`) dominate `rᵀM⁻¹r`: at
+/// [`FORCING`] the conjugate gradients stop once the pinned vertices' rows are solved, with
+/// the material around them hardly moved, so the step drags each pinned vertex the whole
+/// lag away from its neighbours and the largest flip-free step cuts it to 5–20 % (the
+/// research notes' "jam"). At `10⁻³` the direction carries the neighbourhood along: on the
+/// 3k bar stretched 2.5× the pins lagged 0 % of the diagonal at the drag's end with about 12
+/// back-substitutions per drag frame, against 16 % with 5–17 at 0.1 (0.76 % at `3·10⁻³`,
+/// 3.9 % at `10⁻²`). Held updates keep [`FORCING`]: at `10⁻³` their conjugate gradients
+/// rarely reach it within [`CG_CAP`] near the minimiser, and a pose with a rigid radius
+/// disc then never reported `converged` (`tests/node/simulation.test.mjs`).
+const MOVED_FORCING: f64 = 1e-3;
+/// The most conjugate-gradient steps per Newton step. A smaller cap makes each step closer
+/// to a preconditioned gradient step, which the largest flip-free step then cuts to a few
+/// percent (the research notes' "jam"); at [`MOVED_FORCING`] a drag frame's step stops
+/// after about 12 anyway. Held, a cap of 20 left a pose with a rigid radius disc moving
+/// 5·10⁻³ per update after 400 updates without settling (`tests/node/simulation.test.mjs`);
+/// at 40 it settles.
 const CG_CAP: usize = 40;
+/// The conjugate-gradient steps that an update whose targets moved makes before it looks at
+/// its budget. Its one Newton step must carry the pins' neighbourhoods along, which the
+/// first steps do not do (see [`MOVED_FORCING`]): cut at 6 or 8 steps, a drag of the bar
+/// turned 90° by an advanced pin (100k rendered vertices, a 3k simulation mesh, `maxSolves`)
+/// fell 24 % of the diagonal behind by the drag's end and stayed 17–19 % behind 140 held
+/// updates later; at 10 or more it kept within 0.003 %. Under the default 8 ms budget a
+/// loaded machine sometimes gave fewer, and the drag fell behind the same way. The step
+/// stops at [`MOVED_FORCING`] after about 12 steps on the drag suite; an update can
+/// overshoot its budget by the rest of these 10 (on a mesh solved at full resolution above
+/// a few thousand vertices, noticeably: give it a simulation mesh).
+const MOVED_CG: usize = 10;
+
 /// The most Newton iterations per update with the same targets as the last one (idle
 /// frames: the budget usually stops it first).
 const NEWTON_CAP: usize = 64;
@@ -132,10 +159,11 @@ pub const PIN_TOLERANCE: f64 = 1e-4;
 const FLOOR_RANGE: (f64, f64) = (1e-6, FORCING);
 
 /// The forcing term for a gradient `g` with `gᵀM⁻¹g = rz`: `√(rz / scale)` within
-/// `[floor, FORCING]`, so that steps far from the minimiser stay cheap and the last ones
-/// converge fast (an Eisenstat–Walker-like choice on the preconditioned gradient).
-fn forcing(rz: f64, scale: f64, floor: f64) -> f64 {
-    (rz / scale).sqrt().clamp(floor, FORCING)
+/// `[floor, top]` (`top` is [`FORCING`] or [`MOVED_FORCING`]; a floor above it is lowered
+/// to it), so that steps far from the minimiser stay cheap and the last ones converge fast
+/// (an Eisenstat–Walker-like choice on the preconditioned gradient).
+fn forcing(rz: f64, scale: f64, floor: f64, top: f64) -> f64 {
+    (rz / scale).sqrt().clamp(floor.min(top), top)
 }
 
 /// The state and buffers of the injective method for one compiled pin set.
@@ -355,6 +383,7 @@ impl Injective {
             x.0 = *r;
         }
         self.floor = floor.clamp(FLOOR_RANGE.0, FLOOR_RANGE.1);
+        self.pcg.discard();
         self.fresh = false;
         self.converged = false;
     }
@@ -453,6 +482,7 @@ impl Injective {
             self.evaluate(targets, rotations);
             self.fresh = true;
             self.converged = false;
+            self.pcg.discard();
         }
         let mut report = Report::default();
         for _ in 0..if moved { MOVE_NEWTON_CAP } else { NEWTON_CAP } {
@@ -460,9 +490,6 @@ impl Injective {
                 break;
             }
             report.iterations += 1;
-            for (r, g) in self.rhs.iter_mut().zip(&self.grad) {
-                *r = Pair([-g.0[0], -g.0[1]]);
-            }
             let first = report.iterations == 1;
             let (scale, floor) = (self.scale, self.floor);
             let mut op = Newton {
@@ -474,14 +501,40 @@ impl Injective {
                 system,
                 budget: &mut budget,
             };
-            let (stop, k) = self.pcg.solve(
-                &self.rhs,
-                &mut self.step,
-                |rz| (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| forcing(rz, scale, floor)),
-                CG_CAP,
-                &mut op,
-            );
-            report.solves += k + 1;
+            // The conjugate gradients that the budget stopped in the last update, if the
+            // targets are the same: the same system, so they continue where they were.
+            let (stop, k) = match self.pcg.resume(&mut self.step, &mut op) {
+                Some(resumed) => {
+                    report.solves += resumed.1;
+                    resumed
+                }
+                None => {
+                    for (r, g) in self.rhs.iter_mut().zip(&self.grad) {
+                        *r = Pair([-g.0[0], -g.0[1]]);
+                    }
+                    let fresh = self.pcg.solve(
+                        &self.rhs,
+                        &mut self.step,
+                        |rz| {
+                            (!moved || first || rz > FRAME_TOLERANCE * scale).then(|| {
+                                forcing(rz, scale, floor, if moved { MOVED_FORCING } else { FORCING })
+                            })
+                        },
+                        (if moved { MOVED_CG } else { 1 }, CG_CAP),
+                        &mut op,
+                    );
+                    report.solves += fresh.1 + 1;
+                    fresh
+                }
+            };
+            if stop == Stop::Budget && !moved {
+                // Held: the step waits for its conjugate gradients to finish in the next
+                // update (a cut-short direction would be taken at a fraction, and could not
+                // tell whether the pose has settled).
+                report.iterations -= 1;
+                break;
+            }
+            self.pcg.discard();
             self.floor = match stop {
                 Stop::Cap | Stop::Budget => (self.floor * 10.0).min(FLOOR_RANGE.1),
                 Stop::Converged if k <= 10 => (self.floor / 10.0).max(FLOOR_RANGE.0),

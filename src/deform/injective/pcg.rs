@@ -32,13 +32,26 @@ pub(crate) trait Operator {
     fn expired(&mut self) -> bool;
 }
 
-/// Buffers of the iteration, allocated once.
+/// Buffers of the iteration, allocated once, and the state of an iteration that the budget
+/// interrupted (see [`Pcg::resume`]).
 #[derive(Debug)]
 pub(crate) struct Pcg {
     r: Vec<Pair>,
     z: Vec<Pair>,
     d: Vec<Pair>,
     q: Vec<Pair>,
+    /// The interrupted iteration, if any.
+    pending: Option<Progress>,
+}
+
+/// Where an iteration stands: `rᵀM⁻¹r` now, the target, the products made so far and the
+/// most it may make.
+#[derive(Debug, Clone, Copy)]
+struct Progress {
+    rz: f64,
+    target: f64,
+    done: usize,
+    cap: usize,
 }
 
 /// How an iteration ended.
@@ -65,36 +78,70 @@ impl Pcg {
             z: vec![Pair::default(); n],
             d: vec![Pair::default(); n],
             q: vec![Pair::default(); n],
+            pending: None,
         }
     }
 
     /// Solves `H p = b` approximately from `p = 0` with the products and preconditioner of
     /// `op`: `eta(bᵀM⁻¹b)` gives the forcing term (`None`: do not iterate), `cap` the most
-    /// products. Returns how it stopped and the number of products with `H`.
+    /// products, and the budget is not looked at before `least` of them (nor before the
+    /// first). Returns how it stopped and the number of products with `H`. An iteration that
+    /// the budget stops can be continued with [`Pcg::resume`], as long as `p` and `H` are
+    /// left as they are.
     pub(crate) fn solve(
         &mut self,
         b: &[Pair],
         p: &mut [Pair],
         eta: impl FnOnce(f64) -> Option<f64>,
-        cap: usize,
+        (least, cap): (usize, usize),
         op: &mut impl Operator,
     ) -> (Stop, usize) {
-        let Pcg { r, z, d, q } = self;
+        self.pending = None;
         p.fill(Pair::default());
-        r.copy_from_slice(b);
-        op.precondition(r, z);
-        d.copy_from_slice(z);
-        let mut rz = dot(r, z);
+        self.r.copy_from_slice(b);
+        op.precondition(&self.r, &mut self.z);
+        self.d.copy_from_slice(&self.z);
+        let rz = dot(&self.r, &self.z);
         let Some(eta) = eta(rz) else {
             return (Stop::Declined, 0);
         };
-        let target = eta * eta * rz;
         if rz.is_nan() || rz <= 0.0 {
             return (Stop::Converged, 0);
         }
-        for k in 0..cap {
-            if k > 0 && op.expired() {
-                return (Stop::Budget, k);
+        self.iterate(p, Progress { rz, target: eta * eta * rz, done: 0, cap }, least, op)
+    }
+
+    /// Forgets an interrupted iteration (the system it was solving has changed).
+    pub(crate) fn discard(&mut self) {
+        self.pending = None;
+    }
+
+    /// Continues the iteration that the budget stopped, on the same system and with the
+    /// same `p`: exactly the iterates an uninterrupted run would have made. Returns as
+    /// [`Pcg::solve`] does, counting the products of this call only; `None` when nothing is
+    /// pending.
+    pub(crate) fn resume(&mut self, p: &mut [Pair], op: &mut impl Operator) -> Option<(Stop, usize)> {
+        let progress = self.pending.take()?;
+        Some(self.iterate(p, progress, 0, op))
+    }
+
+    /// Conjugate-gradient steps from `at`, the budget looked at from the second product of
+    /// this call and from product `least` of the iteration on; the count returned is of this
+    /// call's products.
+    fn iterate(
+        &mut self,
+        p: &mut [Pair],
+        at: Progress,
+        least: usize,
+        op: &mut impl Operator,
+    ) -> (Stop, usize) {
+        let Pcg { r, z, d, q, pending } = self;
+        let Progress { mut rz, target, done, cap } = at;
+        for k in done..cap {
+            // Every product after the first is a check (a counted budget counts them all).
+            if k > done && op.expired() && k >= least {
+                *pending = Some(Progress { rz, target, done: k, cap });
+                return (Stop::Budget, k - done);
             }
             op.hessian_times(d, q);
             let dq = dot(d, q);
@@ -103,7 +150,7 @@ impl Pcg {
                     // No curvature information: the preconditioned gradient direction.
                     p.copy_from_slice(z);
                 }
-                return (Stop::Curvature, k + 1);
+                return (Stop::Curvature, k + 1 - done);
             }
             let alpha = rz / dq;
             axpy(alpha, d, p);
@@ -111,7 +158,7 @@ impl Pcg {
             op.precondition(r, z);
             let rz_next = dot(r, z);
             if rz_next < target {
-                return (Stop::Converged, k + 1);
+                return (Stop::Converged, k + 1 - done);
             }
             let beta = rz_next / rz;
             rz = rz_next;
@@ -120,6 +167,6 @@ impl Pcg {
                 d.0[1] = z.0[1] + beta * d.0[1];
             }
         }
-        (Stop::Cap, cap)
+        (Stop::Cap, cap.saturating_sub(done))
     }
 }
