@@ -46,7 +46,7 @@ import os from "node:os";
 import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
 import { character } from "./_character.mjs";
 import { median } from "./_time.mjs";
-import { diagonal, farTriangles, locatePins } from "../tests/suite/metrics.mjs";
+import { adjacencyOf, diagonal, farTriangles, locatePins } from "../tests/suite/metrics.mjs";
 import { circle, polygonArea, rect, spacingFor } from "../tests/suite/cases.mjs";
 
 const root = new URL("../", import.meta.url);
@@ -541,13 +541,7 @@ const DISC_RADIUS = 12;
  *  (Infinity beyond the limit). */
 export function distancesAlong(vertices, triangles, points, limit) {
   const n = vertices.length / 2;
-  const adjacency = Array.from({ length: n }, () => []);
-  for (let t = 0; t < triangles.length; t += 3)
-    for (let k = 0; k < 3; k++) {
-      const [a, b] = [triangles[t + k], triangles[t + ((k + 1) % 3)]];
-      adjacency[a].push(b);
-      adjacency[b].push(a);
-    }
+  const adjacency = adjacencyOf(n, triangles);
   return locatePins(vertices, triangles, points).map((pin, h) => {
     const d = new Float64Array(n).fill(Infinity);
     const heap = [];

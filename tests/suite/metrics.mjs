@@ -44,9 +44,9 @@ export function locatePins(vertices, triangles, handles) {
   return out;
 }
 
-/** The graph distance (in edges) of every vertex from the vertices of the pins' triangles;
- *  Infinity for vertices no pin's component reaches. */
-export function pinDistances(vertexCount, triangles, pins) {
+/** Each vertex's neighbours along the triangles' edges (an interior edge lists each end
+ *  twice: once from each of its triangles). */
+export function adjacencyOf(vertexCount, triangles) {
   const adjacency = Array.from({ length: vertexCount }, () => []);
   for (let t = 0; t < triangles.length; t += 3)
     for (let k = 0; k < 3; k++) {
@@ -54,6 +54,13 @@ export function pinDistances(vertexCount, triangles, pins) {
       adjacency[a].push(b);
       adjacency[b].push(a);
     }
+  return adjacency;
+}
+
+/** The graph distance (in edges) of every vertex from the vertices of the pins' triangles;
+ *  Infinity for vertices no pin's component reaches. */
+export function pinDistances(vertexCount, triangles, pins) {
+  const adjacency = adjacencyOf(vertexCount, triangles);
   const distance = new Float64Array(vertexCount).fill(Infinity);
   let queue = [];
   for (const p of pins) for (const v of p.corners) if (distance[v] !== 0) (distance[v] = 0), queue.push(v);
