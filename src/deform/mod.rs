@@ -140,12 +140,14 @@ pub struct Options {
     pub preserve_area: bool,
     /// The nonlinear method's term weights.
     pub term_weights: TermWeights,
-    /// The injective method's time budget per update, in milliseconds. Default
+    /// The injective method's time budget per update, in milliseconds (an update whose
+    /// targets moved makes at least 10 conjugate-gradient steps whatever it says). Default
     /// [`DEFAULT_BUDGET_MS`].
     pub budget_ms: f64,
     /// The injective method's work per update counted instead of timed: when set, an
     /// update stops after this many back-substitutions of step 2's factor (about one per
-    /// conjugate-gradient step; the first Newton iteration always runs) and `budget_ms` is
+    /// conjugate-gradient step; the first Newton iteration always runs, with at least 10
+    /// conjugate-gradient steps when the targets moved) and `budget_ms` is
     /// not read, so the result is the same on every machine and at any load: for tests,
     /// reproducible renders, and offline work where time does not matter. Default `None`.
     /// Must lie in 1..=[`MAX_SOLVES`].

@@ -376,8 +376,9 @@ impl Injective {
     /// Continues from `positions` (injective, as [`Injective::positions`] gave them) and
     /// `floor` (as [`Injective::floor`] gave it): the next update computes exactly what it
     /// would have computed after the update that left that state, whatever came between.
-    /// (The energy, its gradient and the targets are recomputed by the next update; the
-    /// conjugate gradients start from zero every time.)
+    /// (The energy, its gradient and the targets are recomputed by the next update, whose
+    /// targets then count as moved; conjugate gradients that the budget stopped are dropped
+    /// and the next ones start from zero.)
     pub(crate) fn restore(&mut self, positions: &[[f64; 2]], floor: f64) {
         for (x, r) in self.x.iter_mut().zip(positions) {
             x.0 = *r;
