@@ -31,7 +31,7 @@ for (const n of [3000, 30000]) {
   for (const method of ["two-step", "nonlinear", "injective"]) {
     if (method === "injective" && n > 10000 && quick) continue;
     const puppets = Object.entries(KINDS).map(([name, kinds]) => {
-      const p = Puppet.register(v, t, { method, maxSolves: 20 });
+      const p = Puppet.register(v, t, method === "injective" ? { method, maxSolves: 20 } : { method });
       p.compile(handles, { kinds });
       return { name, p, times: [] };
     });

@@ -1,6 +1,9 @@
-// Builds the package's WebGL2 helper, `bunraku/gl`: js/gl.ts compiled by tsc (strict, the
-// settings of js/tsconfig.json) into dist/gl.js and its declarations dist/gl.d.ts, which
-// package.json's "exports" and "files" name. Skipped when dist/ is newer than its inputs
+// Builds the package's JavaScript: its entry "bunraku" (js/index.ts, which guards the
+// wasm-bindgen glue in pkg/) and the WebGL2 helper `bunraku/gl` (js/gl.ts and the modules of
+// js/gl/ it exports from), compiled by tsc (strict, the settings of js/tsconfig.json) into
+// dist/index.js, dist/gl.js, dist/gl/*.js and their declarations, which package.json's
+// "exports" and "files" name. Run it after
+// scripts/build-wasm.sh: the entry's declarations read pkg/bunraku.d.ts. Skipped when dist/ is newer than its inputs
 // (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
 // scripts/test.sh run it; the tests that import dist/ call `buildGL()` themselves, so
 // that they also run on their own.
@@ -14,16 +17,27 @@
 import { spawnSync } from "node:child_process";
 import { existsSync, mkdirSync, mkdtempSync, renameSync, rmSync, statSync, writeFileSync } from "node:fs";
 import { createRequire } from "node:module";
-import { join, relative } from "node:path";
+import { dirname, join, relative } from "node:path";
 import { fileURLToPath } from "node:url";
 import { performance } from "node:perf_hooks";
 
 const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
+/** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
+ *  and package.json's "files"). */
+const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "painter", "view"];
 /** What the build writes into it (besides its stamp). */
-export const GL_FILES = ["gl.js", "gl.d.ts"];
-const INPUTS = [join(root, "js", "gl.ts"), join(root, "js", "tsconfig.json"), fileURLToPath(import.meta.url), join(root, "package-lock.json")];
+export const GL_FILES = ["index.js", "index.d.ts", "gl.js", "gl.d.ts", ...GL_MODULES.flatMap((m) => [`gl/${m}.js`, `gl/${m}.d.ts`])];
+const INPUTS = [
+  join(root, "js", "index.ts"),
+  join(root, "js", "gl.ts"),
+  ...GL_MODULES.map((m) => join(root, "js", "gl", `${m}.ts`)),
+  join(root, "pkg", "bunraku.d.ts"),
+  join(root, "js", "tsconfig.json"),
+  fileURLToPath(import.meta.url),
+  join(root, "package-lock.json"),
+];
 const STAMP = join(GL_DIST, ".built-gl"); // written last, after a whole successful build
 
 function staleBecause() {
@@ -34,7 +48,7 @@ function staleBecause() {
   return null;
 }
 
-/** Compiles js/gl.ts into dist/ when it is out of date (always with `force`). Throws when
+/** Compiles js/index.ts, js/gl.ts and js/gl/ into dist/ when it is out of date (always with `force`). Throws when
  *  tsc reports an error. */
 export function buildGL({ force = false, log = (line) => console.log(`[build-gl] ${line}`) } = {}) {
   const reason = force ? "--force" : staleBecause();
@@ -49,7 +63,10 @@ export function buildGL({ force = false, log = (line) => console.log(`[build-gl]
     const tsc = createRequire(import.meta.url).resolve("typescript/bin/tsc");
     const run = spawnSync(process.execPath, [tsc, "-p", join(root, "js", "tsconfig.json"), "--outDir", out, "--pretty", "false"], { encoding: "utf8" });
     if (run.status !== 0) throw new Error(`tsc -p js/tsconfig.json failed:\n${run.stdout}${run.stderr}`);
-    for (const file of GL_FILES) renameSync(join(out, file), join(GL_DIST, file));
+    for (const file of GL_FILES) {
+      mkdirSync(dirname(join(GL_DIST, file)), { recursive: true });
+      renameSync(join(out, file), join(GL_DIST, file));
+    }
   } finally {
     rmSync(out, { recursive: true, force: true });
   }

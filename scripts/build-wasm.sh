@@ -3,7 +3,7 @@
 #   wasm-pack build --release --target web   (wasm-opt off in Cargo.toml)
 #   wasm-opt -O3 from the npm package binaryen (not Debian's binaryen 108, which breaks
 #   the externref table that wasm-bindgen emits)
-# Skips the build when pkg/ is newer than src/, Cargo.toml, Cargo.lock,
+# Skips the build when pkg/ is newer than src/, crates/, Cargo.toml, Cargo.lock,
 # package-lock.json and this script (set BUNRAKU_FORCE_BUILD=1 or pass --force to build anyway).
 # Expects scripts/setup.sh to have run.
 set -euo pipefail
@@ -28,7 +28,7 @@ force="${BUNRAKU_FORCE_BUILD:-0}"
 up_to_date() {
   [ -f "$STAMP" ] && [ -f "$WASM" ] && [ -f "$OUT/bunraku.js" ] && [ -f "$OUT/bunraku.d.ts" ] || return 1
   local newer
-  newer="$(find src Cargo.toml Cargo.lock package-lock.json "$ROOT/scripts/build-wasm.sh" -newer "$STAMP" -print -quit 2>/dev/null)"
+  newer="$(find src crates Cargo.toml Cargo.lock package-lock.json "$ROOT/scripts/build-wasm.sh" -newer "$STAMP" -print -quit 2>/dev/null)"
   [ -z "$newer" ]
 }
 
@@ -40,7 +40,7 @@ size_report() {
 }
 
 if [ "$force" != 1 ] && up_to_date; then
-  log "pkg/ is up to date (newer than src/, Cargo.toml, Cargo.lock, package-lock.json); skipping the build"
+  log "pkg/ is up to date (newer than src/, crates/, Cargo.toml, Cargo.lock, package-lock.json); skipping the build"
   size_report
   exit 0
 fi

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The whole test suite (`npm test`), stopping at the first failure:
 #   1. scripts/setup.sh                    installs what is missing
-#   2. cargo test                          native: unit, integration and doc tests
+#   2. cargo test --workspace              native: unit, integration and doc tests (bunraku
+#                                          and crates/document)
 #   3. wasm-pack test --node               #[wasm_bindgen_test] tests (tests/web.rs) in Node
 #   4. scripts/build-wasm.sh               the npm package in pkg/ (skipped when up to date)
 #      scripts/build-gl.mjs                its WebGL2 helper `bunraku/gl` in dist/ (likewise)
 #   5. node --test tests/node/*.mjs        Node tests of the built package; every .mjs, .js
 #                                          or .cjs file directly in tests/node/ whose name
 #                                          does not start with "_" is a test file
+#      node --test tests/fuzz/             the project's fuzzer, a short pass (20k calls)
 #   6. node --test tests/browser/          the demo page end to end in headless Chromium
 #                                          (builds www/dist/ first, with its type check,
 #                                          when it is out of date), and bunraku/gl there
@@ -46,7 +48,7 @@ done
 node_test() { timeout -k 10 1200 node --test "${node_flags[@]}" "$@"; }
 
 step "setup" bash scripts/setup.sh
-step "cargo test (native)" cargo test
+step "cargo test (native)" cargo test --workspace
 # --lib --test '*': the library's and the integration tests' test binaries (the
 # #[wasm_bindgen_test] ones run; plain #[test]s run natively above), not the
 # examples nor the doc tests, which `cargo test` already covers natively.
@@ -64,6 +66,7 @@ if [ ${#node_tests[@]} -eq 0 ]; then
 else
   step "node --test tests/node/" node_test "${node_tests[@]}"
 fi
+step "node --test tests/fuzz/ (short pass)" node_test tests/fuzz/
 step "node --test tests/browser/" node_test tests/browser/
 step "node --test tests/examples/" node_test tests/examples/
 

@@ -46,6 +46,18 @@ pub enum Error {
         /// The largest magnitude allowed.
         limit: f64,
     },
+    /// More items than a limit allows (vertices of a mesh, pins of a track), found before
+    /// any work on them (code `too-large`, with the limit).
+    TooMany {
+        /// What is counted: "vertices".
+        what: &'static str,
+        /// How many were given, or (`estimated`) would be made.
+        count: f64,
+        /// Whether `count` is an estimate of what would be made.
+        estimated: bool,
+        /// The most allowed.
+        limit: usize,
+    },
     /// The mesh has no triangle.
     EmptyMesh,
     /// A triangle refers to a vertex that does not exist.
@@ -278,7 +290,7 @@ pub enum Error {
     /// `"bad-version"`, `"bad-length"` or `"non-finite"`.
     BadDocument {
         /// What kind of problem.
-        fault: crate::animation::DocumentFault,
+        fault: DocumentFault,
         /// Where: the field's path (`mesh.uvs`, `poses[1].positions`, `track.times[3]`),
         /// empty for the document as a whole.
         field: String,
@@ -289,29 +301,13 @@ pub enum Error {
     },
 }
 
-/// `s` in double quotes, as `{:?}` prints an ordinary string: `"` and `\` escaped, line
-/// breaks and tabs as `\n`, `\r`, `\t`, other control characters as `\u{…}`. Unlike
-/// `{:?}` it leaves the other non-printable characters as they are: `str`'s `Debug` links
-/// Unicode tables and escape code into the .wasm (3.7 KB gzipped) for messages that never
-/// need them.
+/// `s` in double quotes, escaped as Rust's `{:?}` writes a string (which for the names and
+/// tokens messages quote is what JavaScript's `JSON.stringify` writes too).
 pub(crate) struct Quoted<'a>(pub(crate) &'a str);
 
 impl fmt::Display for Quoted<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use fmt::Write;
-        f.write_char('"')?;
-        for c in self.0.chars() {
-            match c {
-                '"' => f.write_str("\\\"")?,
-                '\\' => f.write_str("\\\\")?,
-                '\n' => f.write_str("\\n")?,
-                '\r' => f.write_str("\\r")?,
-                '\t' => f.write_str("\\t")?,
-                c if c.is_control() => write!(f, "\\u{{{:x}}}", c as u32)?,
-                c => f.write_char(c)?,
-            }
-        }
-        f.write_char('"')
+        write!(f, "{:?}", self.0)
     }
 }
 
@@ -362,12 +358,12 @@ impl Error {
     /// `"bad-simulation"`. A
     /// wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"` too; a bad blend
     /// weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`; a bad document's
-    /// code follows its [`crate::animation::DocumentFault`].
+    /// code follows its [`DocumentFault`].
     pub fn code(&self) -> &'static str {
         match self {
             Error::BadLength { .. } | Error::CountMismatch { .. } => "bad-length",
             Error::NonFinite { .. } => "non-finite",
-            Error::TooLarge { .. } => "too-large",
+            Error::TooLarge { .. } | Error::TooMany { .. } => "too-large",
             Error::EmptyMesh => "empty-mesh",
             Error::IndexOutOfRange { .. } => "index-out-of-range",
             Error::DegenerateTriangle { .. } => "degenerate-triangle",
@@ -399,10 +395,10 @@ impl Error {
             Error::EmptyTrack => "empty-track",
             Error::BadSimulation { .. } => "bad-simulation",
             Error::BadDocument { fault, .. } => match fault {
-                crate::animation::DocumentFault::Structure => "bad-document",
-                crate::animation::DocumentFault::Version => "bad-version",
-                crate::animation::DocumentFault::Length => "bad-length",
-                crate::animation::DocumentFault::NonFinite => "non-finite",
+                DocumentFault::Structure => "bad-document",
+                DocumentFault::Version => "bad-version",
+                DocumentFault::Length => "bad-length",
+                DocumentFault::NonFinite => "non-finite",
             },
         }
     }
@@ -420,6 +416,10 @@ impl Error {
             Error::TooLarge { what, index, value, limit, .. } => {
                 format!("{what}: item {index} has a coordinate {} beyond ±{}", n(*value), n(*limit))
             }
+            Error::TooMany { what, count, estimated, limit } => match estimated {
+                true => format!("about {} {what} would be made, more than the limit of {limit}", n(count.round())),
+                false => format!("{} {what} are more than the limit of {limit}", n(*count)),
+            },
             Error::EmptyMesh => "the mesh has no triangle".to_string(),
             Error::IndexOutOfRange { triangle, index, vertex_count } => format!(
                 "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
@@ -541,6 +541,19 @@ pub(crate) fn check_finite<T: Copy + Into<f64>, const D: usize>(
     Ok(())
 }
 
+/// Checks that every coordinate of `points` is finite ([`Error::NonFinite`]) and within
+/// ±[`crate::limits::MAX_COORDINATE`] ([`Error::TooLarge`]), naming the first that is not.
+pub(crate) fn check_coordinates(what: &'static str, points: &[[f64; 2]]) -> Result<()> {
+    check_finite(what, points)?;
+    let limit = crate::limits::MAX_COORDINATE;
+    for (index, p) in points.iter().enumerate() {
+        if let Some(c) = (0..2).find(|&c| p[c].abs() > limit) {
+            return Err(Error::TooLarge { what, index, flat: 2 * index + c, value: p[c], limit });
+        }
+    }
+    Ok(())
+}
+
 /// How many poses a blender has, as [`Error::BadPose`] says it: `there are no poses`,
 /// `there is 1 pose`, `there are 3 poses`.
 pub(crate) fn there_are_poses(count: usize) -> String {
@@ -559,17 +572,10 @@ pub fn points_from_flat(what: &'static str, flat: &[f64]) -> Result<Vec<[f64; 2]
     Ok(flat.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
 }
 
-#[cfg(test)]
-mod tests {
-    use super::Quoted;
+pub use bunraku_document::DocumentFault;
 
-    #[test]
-    fn quoted_strings_read_as_debug_prints_them() {
-        for s in ["spacng", "", "a \"b\" c", "back\\slash", "line\nbreak\tand\r", "\u{1}\u{7f}", "é, ü, 漢字"]
-        {
-            assert_eq!(Quoted(s).to_string(), format!("{s:?}"), "{s}");
-        }
-        // Where they part: a printable-looking but non-printable character stays as it is.
-        assert_eq!(Quoted("a\u{200b}b").to_string(), "\"a\u{200b}b\"");
+impl From<bunraku_document::DocumentError> for Error {
+    fn from(e: bunraku_document::DocumentError) -> Error {
+        Error::BadDocument { fault: e.fault, field: e.field, value: e.value, reason: e.reason }
     }
 }

@@ -27,27 +27,6 @@
 
 #![warn(missing_docs)]
 
-/// `vec!` for the whole crate (a `macro_rules!` defined before the modules shadows the
-/// standard library's in all of them): `vec![x; n]` goes through one out-of-line function
-/// per element type ([`filled`]) instead of inlining the standard library's allocate-and-fill
-/// at each of the crate's many uses, which cost about 17 KB of the .wasm; lists expand as the
-/// standard library expands them. None of the crate's per-frame paths allocates, so the call
-/// costs nothing measurable.
-macro_rules! vec {
-    ($elem:expr; $n:expr) => {
-        $crate::filled($elem, $n)
-    };
-    ($($x:expr),* $(,)?) => {
-        ::std::vec![$($x),*]
-    };
-}
-
-/// `vec![elem; n]` (see the crate's `vec!`).
-#[inline(never)]
-pub(crate) fn filled<T: Clone>(elem: T, n: usize) -> Vec<T> {
-    ::std::vec![elem; n]
-}
-
 pub mod animation;
 pub mod blend;
 pub mod conventions;

@@ -10,6 +10,12 @@ pub const MAX_SIDE: u32 = 16384;
 /// RGBA).
 pub const MAX_PIXELS: u64 = 1 << 26;
 
+/// The most vertices a mesh may have: 2¹⁷ = 131,072, 30 % above the largest meshes the
+/// benchmarks run (100k), where meshing a picture takes about half a second and
+/// registering and compiling about a second each on the project's machine. Meshing is
+/// refused from its estimated size before it starts, registration from the count.
+pub const MAX_VERTICES: usize = 1 << 17;
+
 /// The largest magnitude a target coordinate may have: far beyond any screen, and small
 /// enough that `w²·target` cannot overflow.
 pub const MAX_COORDINATE: f64 = 1e100;

@@ -5,6 +5,7 @@
 
 use crate::error::{check_finite, points_from_flat, Error, Result};
 use crate::geometry::{bbox_diagonal, cross, dot, sub};
+use crate::limits::MAX_VERTICES;
 pub use crate::topology::Edge;
 use crate::topology::{build_edges, chain_loops, check_duplicates, components, NO_TRIANGLE};
 
@@ -38,6 +39,10 @@ impl Mesh {
     pub fn new(vertices: Vec<[f64; 2]>, mut triangles: Vec<[u32; 3]>) -> Result<Mesh> {
         if triangles.is_empty() {
             return Err(Error::EmptyMesh);
+        }
+        if vertices.len() > MAX_VERTICES {
+            let (count, limit) = (vertices.len() as f64, MAX_VERTICES);
+            return Err(Error::TooMany { what: "vertices", count, estimated: false, limit });
         }
         check_finite("vertices", &vertices)?;
         let n = vertices.len();

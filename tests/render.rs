@@ -518,3 +518,36 @@ fn bad_input_is_named() {
     let frame = r.render(&positions, &[], &uvs, 2, 2, &ok.clone().with_background([1, 2, 3, 4])).unwrap();
     assert_eq!(frame, [1, 2, 3, 4].repeat(4));
 }
+
+#[test]
+fn subnormal_and_tiny_coordinates_render() {
+    // Issue 23: a coordinate of 1e-310 trapped the wasm renderer.
+    let rgba = [200u8, 100, 50, 255].repeat(4);
+    let mut renderer = Renderer::new(&rgba, 2, 2).unwrap();
+    let (n, size) = (3usize, 12.0);
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            vertices.push([size * i as f64 / n as f64, size * j as f64 / n as f64]);
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..n as u32 {
+        for i in 0..n as u32 {
+            let a = j * (n as u32 + 1) + i;
+            triangles.push([a, a + 1, a + n as u32 + 2]);
+            triangles.push([a, a + n as u32 + 2, a + n as u32 + 1]);
+        }
+    }
+    let uvs: Vec<[f32; 2]> = vertices.iter().map(|p| [(p[0] / size) as f32, (p[1] / size) as f32]).collect();
+    for tiny in [1e-310, 5e-324, -1e-310, 1e-300, f64::MIN_POSITIVE] {
+        for k in 0..vertices.len() {
+            for c in 0..2 {
+                let mut v = vertices.clone();
+                v[k][c] = tiny;
+                let frame = renderer.render(&v, &triangles, &uvs, 12, 12, &RenderOptions::new()).unwrap();
+                assert_eq!(frame.len(), 12 * 12 * 4);
+            }
+        }
+    }
+}

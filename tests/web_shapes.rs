@@ -30,9 +30,13 @@ fn from_image_feeds_register() {
     for array in
         [JsValue::from(Uint8Array::from(&rgba[..])), JsValue::from(Uint8ClampedArray::from(&rgba[..]))]
     {
-        let mesh =
-            Mesh::from_image(array, 64, 48, options(&[("margin", 1.0.into()), ("minArea", 4.0.into())]))
-                .unwrap();
+        let mesh = Mesh::from_image(
+            array,
+            64.into(),
+            48.into(),
+            options(&[("margin", 1.0.into()), ("minArea", 4.0.into())]),
+        )
+        .unwrap();
         let n = mesh.vertex_count();
         assert!(n > 50);
         assert_eq!(mesh.uvs().length() as usize, 2 * n);
@@ -50,20 +54,27 @@ fn from_image_feeds_register() {
 fn from_image_errors() {
     let rgba = disc_picture();
     let m = message(
-        Mesh::from_image(Uint8Array::from(&rgba[..10]).into(), 64, 48, JsValue::UNDEFINED).err().unwrap(),
+        Mesh::from_image(Uint8Array::from(&rgba[..10]).into(), 64.into(), 48.into(), JsValue::UNDEFINED)
+            .err()
+            .unwrap(),
     );
     assert!(m.contains("10 bytes") && m.contains("64 × 48 × 4 = 12288"), "{m}");
     let m = message(
-        Mesh::from_image(Uint8Array::from(&rgba[..]).into(), 64, 48, options(&[("alpha", 3.into())]))
-            .err()
-            .unwrap(),
+        Mesh::from_image(
+            Uint8Array::from(&rgba[..]).into(),
+            64.into(),
+            48.into(),
+            options(&[("alpha", 3.into())]),
+        )
+        .err()
+        .unwrap(),
     );
     assert!(m.contains("unknown option \"alpha\""), "{m}");
     let m = message(
         Mesh::from_image(
             Uint8Array::from(&rgba[..]).into(),
-            64,
-            48,
+            64.into(),
+            48.into(),
             options(&[("alphaThreshold", 300.into())]),
         )
         .err()
@@ -71,16 +82,22 @@ fn from_image_errors() {
     );
     assert!(m.contains("alphaThreshold") && m.contains("300"), "{m}");
     let e = failure(
-        Mesh::from_image(Uint8Array::from(&rgba[..]).into(), 64, 48, options(&[("minAngle", 50.into())]))
-            .err()
-            .unwrap(),
+        Mesh::from_image(
+            Uint8Array::from(&rgba[..]).into(),
+            64.into(),
+            48.into(),
+            options(&[("minAngle", 50.into())]),
+        )
+        .err()
+        .unwrap(),
     );
     assert_eq!(e.code, "bad-option");
     assert!(e.message.starts_with("option minAngle: 50 is not in (0, 33]"), "{}", e.message);
-    let m = message(Mesh::from_image(JsValue::from(3), 64, 48, JsValue::UNDEFINED).err().unwrap());
+    let m =
+        message(Mesh::from_image(JsValue::from(3), 64.into(), 48.into(), JsValue::UNDEFINED).err().unwrap());
     assert!(m.contains("Uint8Array"), "{m}");
     let m = message(
-        Mesh::from_image(Uint8Array::from(&vec![0u8; 16][..]).into(), 2, 2, JsValue::UNDEFINED)
+        Mesh::from_image(Uint8Array::from(&vec![0u8; 16][..]).into(), 2.into(), 2.into(), JsValue::UNDEFINED)
             .err()
             .unwrap(),
     );

@@ -8,7 +8,7 @@
 //      www/tsconfig.worker.json for the worker)
 //   2. bundles www/src/main.ts (the page) and www/src/worker.ts (the module worker that
 //      owns the puppets) with esbuild into main.js and worker.js (ES modules, source maps);
-//      the page's WebGL2 drawing is the package's own helper, bundled from js/gl.ts
+//      the page's WebGL2 drawing is the package's own helper, bundled from js/gl.ts (and js/gl/)
 //   3. copies index.html, style.css, the default puppet (assets/gingerbread.png) and the
 //      wasm module (pkg/bunraku_bg.wasm, which the worker and the Canvas 2D fallback
 //      load) next to the bundles
@@ -61,8 +61,11 @@ function filesUnder(dir) {
 function inputs() {
   return [
     ...filesUnder(join(www, "src")),
-    // The package's WebGL2 helper (`bunraku/gl`), which the page bundles from its source.
+    // The package's entry (which guards the wasm glue) and its WebGL2 helper (`bunraku/gl`),
+    // which the page bundles from their sources.
+    join(root, "js", "index.ts"),
     join(root, "js", "gl.ts"),
+    ...filesUnder(join(root, "js", "gl")),
     ...COPIES.map(([source]) => source),
     join(www, "tsconfig.json"),
     join(www, "tsconfig.worker.json"),

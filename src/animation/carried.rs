@@ -1,7 +1,6 @@
 //! A puppet document's simulation mesh (version 2, `simulation`): the player solves on it
 //! and gathers every frame back to the document's mesh ([`crate::simulation`]).
 
-use super::document::{Document, SimulationJson};
 use super::{check_finite_values, check_len, check_values, fault, DocumentFault};
 use crate::deform::geodesic::Graph;
 use crate::deform::starch::triangle_depths;
@@ -10,6 +9,7 @@ use crate::error::Result;
 use crate::locate::Locator;
 use crate::simulation::{Embedding, Simulation};
 use crate::Mesh;
+use bunraku_document::{Document, SimulationJson};
 
 /// The document's simulation mesh carrying `mesh`, validated, or `None` without one.
 /// Errors: [`crate::Error::BadDocument`] (`simulation` in a version 1 document, arrays of

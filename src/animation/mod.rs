@@ -18,39 +18,22 @@
 //! whatever the frame rate (the injective method: see [`Player`]).
 
 mod carried;
-mod document;
 mod player;
 mod track;
 
-pub use document::{
+pub use bunraku_document::{
     BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson, PuppetJson,
-    SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MIN_VERSION, VERSION,
+    SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION,
+    VERSION,
 };
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
-pub use track::{Track, TrackOptions};
+pub use track::{Track, TrackOptions, MAX_PINS};
 
-#[cfg(target_arch = "wasm32")]
-pub(crate) use document::check_header;
 #[cfg(target_arch = "wasm32")]
 pub(crate) use track::parse_kind;
 
+pub use crate::error::DocumentFault;
 use crate::error::{Error, Result};
-
-/// What is wrong with a puppet document or a track's JSON ([`Error::BadDocument`]), which
-/// decides the error's code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DocumentFault {
-    /// Not JSON, not an object, the wrong `format`, a missing field, a field of the wrong
-    /// type, an unknown field, a value that means nothing (`"bad-document"`).
-    Structure,
-    /// A `version` this library does not read (`"bad-version"`).
-    Version,
-    /// An array of the wrong length: a pose or `uvs` that does not have one point per
-    /// vertex, a track whose values do not fit its pins and samples (`"bad-length"`).
-    Length,
-    /// A number that is NaN or infinite (`"non-finite"`).
-    NonFinite,
-}
 
 /// An [`Error::BadDocument`].
 pub(crate) fn fault(fault: DocumentFault, field: String, reason: String) -> Error {

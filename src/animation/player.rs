@@ -1,6 +1,5 @@
 //! [`Player`]: a puppet document's positions at any time.
 
-use super::document::{check_header, Document, PinsJson, PuppetJson, TrackJson, WeightsJson};
 use super::track::parse_kind;
 use super::{carried, Track, TrackOptions};
 use super::{
@@ -13,6 +12,7 @@ use crate::error::{Error, Quoted, Result};
 use crate::meshing::ShapeMesh;
 use crate::simulation::{Embedding, PlacedPins};
 use crate::{EdgeWeights, Handle, Mesh, Options, Pin, Pinned, Rest, Rotation};
+use bunraku_document::{check_header, Document, PinsJson, PuppetJson, TrackJson, WeightsJson};
 
 /// The injective method's counted budget per update in a [`Player`] when the document
 /// gives no `puppet.maxSolves`: back-substitutions, about one per conjugate-gradient step.
@@ -129,6 +129,8 @@ impl Player {
     /// ([`Error::FlippedTriangles`]).
     pub fn new(document: Document) -> Result<Player> {
         check_header(Some(&document.format), Some(document.version as f64))?;
+        // The method's options are checked whatever plays: they are saved with the rest.
+        register_options(document.puppet.as_ref())?;
         let d = &document;
         let m = &d.mesh;
         if m.vertices.len() % 2 != 0 {
@@ -519,6 +521,23 @@ fn register_options(p: Option<&PuppetJson>) -> Result<Options> {
         }
         o.max_solves = p.max_solves;
         o.regularization = p.regularization.unwrap_or(o.regularization);
+        // An option of another method would play as if it were absent, and be saved.
+        let given = [
+            ("iterations", p.iterations.is_some(), &[Method::Nonlinear][..]),
+            ("preserveArea", p.preserve_area.is_some(), &[Method::Nonlinear]),
+            ("termWeights", p.term_weights.is_some(), &[Method::Nonlinear]),
+            ("maxSolves", p.max_solves.is_some(), &[Method::Injective]),
+            ("regularization", p.regularization.is_some(), &[Method::TwoStep, Method::Nonlinear]),
+        ];
+        if let Some((field, ..)) =
+            given.iter().find(|(_, given, methods)| *given && !methods.contains(&o.method))
+        {
+            let reason = format!(
+                "is not an option of the method {}",
+                Quoted(p.method.as_deref().unwrap_or("injective"))
+            );
+            return Err(fault(DocumentFault::Structure, format!("puppet.{field}"), reason));
+        }
     }
     if o.method == Method::Injective {
         o.max_solves = Some(o.max_solves.unwrap_or(INJECTIVE_SOLVES));

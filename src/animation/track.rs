@@ -6,6 +6,13 @@ use crate::error::{check_finite, Error, Quoted, Result};
 use crate::limits::MAX_COORDINATE;
 use crate::{PinKind, Rotation};
 
+/// The accepted range of [`TrackOptions::speed`]: beyond it a recorded time divided by the
+/// speed can overflow to infinity, which JSON cannot hold.
+pub const SPEED_RANGE: (f64, f64) = (1e-6, 1e6);
+
+/// The most pins a track may drive (checked before anything is allocated for them).
+pub const MAX_PINS: usize = 1_000_000;
+
 /// How a [`Track`] records.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackOptions {
@@ -40,8 +47,8 @@ impl TrackOptions {
         if !(self.smoothing.is_finite() && self.smoothing >= 0.0) {
             return bad("smoothing", self.smoothing, "is not a finite number of seconds ≥ 0");
         }
-        if !(self.speed.is_finite() && self.speed > 0.0) {
-            return bad("speed", self.speed, "is not a finite positive number");
+        if !(SPEED_RANGE.0..=SPEED_RANGE.1).contains(&self.speed) {
+            return bad("speed", self.speed, "is not a speed in [0.000001, 1000000]");
         }
         if !self.start.is_finite() {
             return bad("start", self.start, "is not a finite number of seconds");
@@ -182,6 +189,9 @@ impl Track {
             None => time,
         };
         let t = self.options.start + (time - origin) / self.options.speed;
+        if !t.is_finite() {
+            return Err(Error::BadTime { time, reason: "lands beyond the numbers a track can hold" });
+        }
         let dt = time - self.last_clock;
         let alpha = if self.options.smoothing == 0.0 || self.times.is_empty() {
             1.0
@@ -294,6 +304,10 @@ impl Track {
     /// [`Track::from_json`], naming fields under `path`.
     pub(crate) fn from_json_at(json: &TrackJson, path: &str, options: &TrackOptions) -> Result<Track> {
         let n = json.pins;
+        if n > MAX_PINS {
+            let reason = format!("is more pins than a track may drive ({MAX_PINS})");
+            return Err(super::fault_at(DocumentFault::Structure, format!("{path}.pins"), n as f64, &reason));
+        }
         let kinds = match &json.kinds {
             None => vec![PinKind::Position; n],
             Some(names) => {

@@ -73,6 +73,11 @@ use store::Store;
 /// The largest magnitude of a weight.
 pub const MAX_WEIGHT: f64 = 1e6;
 
+/// The largest magnitude of a [`Reference::Angle`], in radians (about 160,000 turns): where
+/// whole turns of `2π` still land within 10⁻⁹ of an angle (f64 spacing at 10⁶ is 1.2·10⁻¹⁰).
+/// Beyond it the unwrapped angles lose the precision that one-hot blends need.
+pub const MAX_REFERENCE_ANGLE: f64 = 1e6;
+
 /// The most `E_S` iterations a blend may make ([`BlendOptions::iterations`]).
 pub const MAX_ITERATIONS: u32 = 100;
 
@@ -225,15 +230,18 @@ impl Blender {
     /// number of positions, [`Error::NonFinite`], [`Error::TooLarge`] (beyond
     /// [`crate::limits::MAX_COORDINATE`]), [`Error::FlippedTriangles`] (with
     /// [`Flipped::Reject`]), [`Error::BadPose`] for a [`Reference::Pose`] that does not
-    /// exist, [`Error::BadOption`] for a non-finite [`Reference::Angle`].
+    /// exist, [`Error::BadOption`] for a [`Reference::Angle`] that is not finite or beyond
+    /// ±[`MAX_REFERENCE_ANGLE`].
     pub fn add_pose_with(&mut self, positions: &[[f64; 2]], options: PoseOptions) -> Result<usize> {
         let (mesh, stitch, rest, store) = (&self.mesh, &self.stitch, &self.rest_centroids, &self.store);
         let flipped = options.flipped;
         let (pose, logs) = match options.reference {
             Reference::Rest => Pose::new(mesh, stitch, rest, positions, flipped, |_| 0.0),
-            Reference::Angle(a) if a.is_finite() => Pose::new(mesh, stitch, rest, positions, flipped, |_| a),
+            Reference::Angle(a) if a.abs() <= MAX_REFERENCE_ANGLE => {
+                Pose::new(mesh, stitch, rest, positions, flipped, |_| a)
+            }
             Reference::Angle(a) => {
-                let reason = "is not a finite angle".into();
+                let reason = "is not an angle within ±10⁶ radians".into();
                 Err(Error::BadOption { name: "reference", value: Some(a), reason })
             }
             Reference::Pose(j) if j < self.poses.len() => {

@@ -6,8 +6,7 @@ use super::polar::log_map;
 use super::stitch::Stitch;
 use super::unwrap::unwrap;
 use super::Flipped;
-use crate::error::{check_finite, Error, Result};
-use crate::limits::MAX_COORDINATE;
+use crate::error::{check_coordinates, Error, Result};
 use crate::mesh::Mesh;
 
 /// What a pose keeps beside its logarithms (which go to [`super::store::Store`]).
@@ -37,13 +36,7 @@ impl Pose {
         if positions.len() != n {
             return Err(Error::CountMismatch { what: "positions", got: positions.len(), expected: n });
         }
-        check_finite("positions", positions)?;
-        for (index, p) in positions.iter().enumerate() {
-            if let Some(c) = (0..2).find(|&c| p[c].abs() > MAX_COORDINATE) {
-                let (what, flat, value, limit) = ("positions", 2 * index + c, p[c], MAX_COORDINATE);
-                return Err(Error::TooLarge { what, index, flat, value, limit });
-            }
-        }
+        check_coordinates("positions", positions)?;
         let count = mesh.triangles().len();
         let mut logs = Vec::with_capacity(count);
         let (mut bad, mut first) = (0, None);

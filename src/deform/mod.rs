@@ -57,7 +57,7 @@ pub(crate) use pinned::check_targets;
 pub use pinned::{Pinned, PoseState};
 pub use pins::{with_default_radii, Handle, Pin, PinKind, Rotation, Target, DEFAULT_ROTATION_RADIUS};
 pub use rest::Rest;
-pub use starch::{Overlap, Starch};
+pub use starch::{Overlap, Starch, MAX_AMOUNT, MAX_DEPTH, MAX_REGIONS, MAX_STIFFNESS};
 pub use stencil::MIN_COTANGENT_WEIGHT;
 pub use step1::BASIS_MAX_HANDLES;
 

@@ -49,24 +49,43 @@ pub const STARCH_PER_AMOUNT: f64 = 100.0;
 /// normal matrices positive definite.
 pub const MIN_STIFFNESS: f64 = 1e-2;
 
-/// Checks a region's point, value and extent, locating the point. Errors name the region:
+/// The most starch (or overlap) regions a puppet may have: each is spread along the whole
+/// mesh, so that a thousand take a thousand passes over it.
+pub const MAX_REGIONS: usize = 1024;
+
+/// The largest magnitude of a starch amount: 100 makes an edge 10⁴ times stiffer, rigid
+/// for any drag; the summed amounts of overlapping regions are held to the same stiffness
+/// ([`MAX_STIFFNESS`]).
+pub const MAX_AMOUNT: f64 = 100.0;
+
+/// The stiffest an edge's energy may become: with [`MIN_STIFFNESS`], a ratio of 10⁶
+/// between edges, which keeps the normal matrices' factorisations accurate whatever the
+/// handle weight.
+pub const MAX_STIFFNESS: f64 = 1.0 + STARCH_PER_AMOUNT * MAX_AMOUNT;
+
+/// The largest magnitude of an overlap depth: triangle depths are `f32` (what WebGL and
+/// the renderer take), and sums of a few regions must stay far from its range.
+pub const MAX_DEPTH: f64 = 1e6;
+
+/// Checks a region's point, value (within ±its limit) and extent, locating the point. Errors name the region:
 /// [`Error::NonFinite`], [`Error::PointOutside`], [`Error::BadOption`].
 fn locate_region(
     locate: &dyn Fn([f64; 2]) -> Option<Location>,
     what: &'static str,
     index: usize,
     at: [f64; 2],
-    value: (&'static str, f64),
+    value: (&'static str, f64, f64),
     extent: f64,
 ) -> Result<Location> {
     if let Some((c, &v)) = at.iter().enumerate().find(|(_, x)| !x.is_finite()) {
         return Err(Error::NonFinite { what, index, flat: 2 * index + c, value: v });
     }
-    if !value.1.is_finite() {
+    let (name, value, limit) = value;
+    if value.is_nan() || value.abs() > limit {
         return Err(Error::BadOption {
-            name: value.0,
-            value: Some(value.1),
-            reason: format!("(item {index}) is not finite"),
+            name,
+            value: Some(value),
+            reason: format!("(item {index}) is not a number within ±{limit}"),
         });
     }
     if !(extent.is_finite() && extent > 0.0) {
@@ -86,11 +105,12 @@ pub(crate) fn edge_multipliers(
     locate: &dyn Fn([f64; 2]) -> Option<Location>,
     starch: &[Starch],
 ) -> Result<Vec<f64>> {
+    check_count(starch.len())?;
     let mut amount = vec![0.0; mesh.edges().len()];
     let locations: Vec<Location> = starch
         .iter()
         .enumerate()
-        .map(|(k, s)| locate_region(locate, "starch", k, s.at, ("amount", s.amount), s.extent))
+        .map(|(k, s)| locate_region(locate, "starch", k, s.at, ("amount", s.amount, MAX_AMOUNT), s.extent))
         .collect::<Result<_>>()?;
     for (s, l) in starch.iter().zip(&locations) {
         let d = graph.distances(mesh, l, s.extent);
@@ -101,7 +121,10 @@ pub(crate) fn edge_multipliers(
             }
         }
     }
-    Ok(amount.into_iter().map(|a| (1.0 + STARCH_PER_AMOUNT * a).max(MIN_STIFFNESS)).collect())
+    Ok(amount
+        .into_iter()
+        .map(|a| (1.0 + STARCH_PER_AMOUNT * a).clamp(MIN_STIFFNESS, MAX_STIFFNESS))
+        .collect())
 }
 
 /// Each triangle's depth for `overlap` (0 where none reaches).
@@ -111,11 +134,12 @@ pub(crate) fn triangle_depths(
     locate: &dyn Fn([f64; 2]) -> Option<Location>,
     overlap: &[Overlap],
 ) -> Result<Vec<f32>> {
+    check_count(overlap.len())?;
     let mut depth = vec![0.0f64; mesh.triangles().len()];
     let locations: Vec<Location> = overlap
         .iter()
         .enumerate()
-        .map(|(k, o)| locate_region(locate, "overlap", k, o.at, ("depth", o.depth), o.extent))
+        .map(|(k, o)| locate_region(locate, "overlap", k, o.at, ("depth", o.depth, MAX_DEPTH), o.extent))
         .collect::<Result<_>>()?;
     for (o, l) in overlap.iter().zip(&locations) {
         let d = graph.distances(mesh, l, o.extent);
@@ -128,4 +152,14 @@ pub(crate) fn triangle_depths(
         }
     }
     Ok(depth.into_iter().map(|x| x as f32).collect())
+}
+
+/// Checks a number of regions against [`MAX_REGIONS`].
+fn check_count(count: usize) -> Result<()> {
+    match count > MAX_REGIONS {
+        true => {
+            Err(Error::TooMany { what: "regions", count: count as f64, estimated: false, limit: MAX_REGIONS })
+        }
+        false => Ok(()),
+    }
 }

@@ -12,6 +12,7 @@
 //! [`star`] and [`test_character`] make test shapes.
 
 pub mod image;
+mod loops;
 pub(crate) mod nested;
 pub mod obj;
 pub mod outline;

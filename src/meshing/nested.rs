@@ -3,9 +3,10 @@
 //! simplified at a coarse tolerance, refined `k × k`, and the refinement's boundary is
 //! snapped back onto the fine outline ([`crate::simulation`]).
 
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::limits::MAX_VERTICES;
 use crate::mesh::Mesh;
-use crate::meshing::image::simplify_all;
+use crate::meshing::loops::simplify_all;
 use crate::meshing::outline::{estimate_vertices, OutlineOptions};
 use crate::meshing::regions::{merge, mesh_regions};
 use crate::simulation::refine::{refined_vertex_count, refinement};
@@ -42,6 +43,24 @@ pub(crate) fn factor_for(rendered: f64, simulation_vertices: Option<usize>) -> O
     (k >= 2.0).then(|| k.min(crate::simulation::refine::MAX_FACTOR as f64) as u32)
 }
 
+/// How many times the plain mesh's estimated size a nested mesh may come out before it is
+/// given up for the plain mesh (a simulation mesh refined around a sliver, then split k × k:
+/// 42,327 rendered vertices in 1.1 s where the plain mesh has 1,955).
+const OVER_REFINED: f64 = 4.0;
+
+/// The estimated vertex count of the plain mesh of the regions `components` of `fine` at
+/// `spacing`.
+fn plain_estimate(fine: &[Vec<[f64; 2]>], components: &[(usize, Vec<usize>)], spacing: f64) -> f64 {
+    use crate::meshing::loops::{area, perimeter};
+    let region = |(outer, holes): &(usize, Vec<usize>)| {
+        area(&fine[*outer]).abs() - holes.iter().map(|&h| area(&fine[h]).abs()).sum::<f64>()
+    };
+    let a = components.iter().map(region).sum::<f64>();
+    let p = fine.iter().map(|l| perimeter(l)).sum::<f64>();
+    let points = fine.iter().map(Vec::len).sum::<usize>();
+    estimate_vertices(a, p, spacing) + points as f64 + 1000.0
+}
+
 /// Meshes the regions `components` (each an outer loop of `fine` with its holes) as a
 /// rendered mesh of spacing about `spacing` nested `k × k` in a simulation mesh of spacing
 /// about `k · spacing`, its silhouette on the fine loops. With `budget`, the simulation
@@ -63,6 +82,15 @@ pub(crate) fn nested_mesh(
     let unsnapped = loop {
         let mesh = simulation_mesh(fine, components, coarse_spacing, min_angle_deg)?;
         let count = refined_vertex_count(&mesh, k);
+        if budget.is_none() && count > MAX_VERTICES {
+            let limit = MAX_VERTICES;
+            return Err(Error::TooMany { what: "vertices", count: count as f64, estimated: true, limit });
+        }
+        if count as f64 > OVER_REFINED * plain_estimate(fine, components, spacing) {
+            // A sliver forced the simulation mesh far finer than its spacing, and k × k
+            // would multiply that: the plain mesh (the caller's fallback) is better.
+            return Ok(None);
+        }
         match budget {
             Some(b) if count > b => {
                 attempts += 1;
@@ -114,12 +142,17 @@ pub(crate) fn nested_outline(
     spacing: f64,
     options: &OutlineOptions,
 ) -> Result<Option<(Mesh, Simulation)>> {
-    let area = |l: &[[f64; 2]]| crate::meshing::image::area(l).abs();
-    let perimeter = |l: &[[f64; 2]]| crate::meshing::image::perimeter(l);
+    let area = |l: &[[f64; 2]]| crate::meshing::loops::area(l).abs();
+    let perimeter = |l: &[[f64; 2]]| crate::meshing::loops::perimeter(l);
     let a = area(outer) - holes.iter().map(|h| area(h)).sum::<f64>();
     let p = perimeter(outer) + holes.iter().map(|h| perimeter(h)).sum::<f64>();
     let points = outer.len() + holes.iter().map(Vec::len).sum::<usize>();
     let estimate = estimate_vertices(a, p, spacing) + points as f64;
+    if options.max_vertices.is_none() && estimate > MAX_VERTICES as f64 {
+        // Refused before the simulation mesh is made (which would take seconds).
+        let limit = MAX_VERTICES;
+        return Err(Error::TooMany { what: "vertices", count: estimate, estimated: true, limit });
+    }
     let Some(k) = factor_for(estimate, options.simulation_vertices) else { return Ok(None) };
     let mut fine = vec![outer.to_vec()];
     fine.extend(holes.iter().cloned());

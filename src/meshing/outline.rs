@@ -13,16 +13,15 @@
 //! ```
 
 use std::f64::consts::PI;
-use std::fmt;
-use std::ops::ControlFlow;
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
-use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 
 use crate::error::{Error, Result};
 use crate::geometry::bounds;
 use crate::mesh::Mesh;
-use crate::segments::{orient, overlapping_pairs, segment_box, segments_meet, sweep_axis};
+use triangulation::{triangulate, Input};
+use validation::{check_crossings, check_finite_loop, check_holes, Frame, LoopId, Ring};
+
+mod triangulation;
+mod validation;
 
 /// Default smallest angle (degrees) that refinement aims for: 30°.
 pub const DEFAULT_MIN_ANGLE_DEG: f64 = 30.0;
@@ -37,7 +36,7 @@ pub const DEFAULT_SPACING_DIVISOR: f64 = 40.0;
 /// Largest mesh, in vertices, that [`mesh_outline`] agrees to build: a spacing that
 /// would give more vertices (by the estimate of [`estimate_vertices`]) is rejected with
 /// [`Error::BadOption`] instead of exhausting memory.
-pub const VERTEX_LIMIT: usize = 1 << 24;
+pub const VERTEX_LIMIT: usize = crate::limits::MAX_VERTICES;
 
 /// Measured density of refined meshes: a region of area `A` meshed at spacing `s` gets
 /// about `INTERIOR_DENSITY · A / s²` vertices (an equilateral grid of side `s` would have
@@ -125,6 +124,22 @@ impl OutlineOptions {
         self
     }
 
+    /// Checks the options on their own: `min_angle_deg` in `(0, 33]`, `spacing` finite and
+    /// positive, `max_vertices` at most [`crate::limits::MAX_VERTICES`]. Errors:
+    /// [`Error::BadOption`].
+    pub fn check(&self) -> Result<()> {
+        let bad =
+            |name, value: f64, reason: String| Err(Error::BadOption { name, value: Some(value), reason });
+        let min_angle = self.min_angle_deg;
+        if !(min_angle > 0.0 && min_angle <= MAX_MIN_ANGLE_DEG) {
+            return bad("min_angle_deg", min_angle, format!("is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"));
+        }
+        if let Some(s) = self.spacing.filter(|s| !(s.is_finite() && *s > 0.0)) {
+            return bad("spacing", s, "is not a finite positive length".into());
+        }
+        check_max_vertices(self.max_vertices)
+    }
+
     /// Sets [`OutlineOptions::max_vertices`].
     pub fn with_max_vertices(mut self, max_vertices: usize) -> Self {
         self.max_vertices = Some(max_vertices);
@@ -171,23 +186,8 @@ impl OutlineOptions {
 /// observed with the normalised coordinates used here) is caught and reported as
 /// [`Error::BadOutline`] on targets that unwind, though not on `wasm32` (panic = abort).
 pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &OutlineOptions) -> Result<Mesh> {
+    options.check()?;
     let min_angle = options.min_angle_deg;
-    if !(min_angle > 0.0 && min_angle <= MAX_MIN_ANGLE_DEG) {
-        return Err(Error::BadOption {
-            name: "min_angle_deg",
-            value: Some(min_angle),
-            reason: format!("is not in (0, {MAX_MIN_ANGLE_DEG}] degrees"),
-        });
-    }
-    if let Some(s) = options.spacing {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(Error::BadOption {
-                name: "spacing",
-                value: Some(s),
-                reason: "is not a finite positive length".into(),
-            });
-        }
-    }
 
     // Validate and clean the loops.
     check_finite_loop(LoopId::Outer, outer)?;
@@ -275,7 +275,8 @@ pub fn mesh_outline(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &Outli
                     continue;
                 }
             },
-            None => (4.0 * estimate) as usize + 10 * input.points.len() + 1000,
+            // Refinement of a needle can outrun the estimate: never past the limit.
+            None => ((4.0 * estimate) as usize + 10 * input.points.len() + 1000).min(VERTEX_LIMIT),
         };
         let out = triangulate(&input, spacing, min_angle, cap)?;
         match options.max_vertices {
@@ -351,266 +352,17 @@ pub fn star(points: usize, inner: f64, outer: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
-// ---------------------------------------------------------------------------------------
-// Validation
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum LoopId {
-    Outer,
-    Hole(usize),
-}
-
-impl fmt::Display for LoopId {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            LoopId::Outer => write!(f, "outer outline"),
-            LoopId::Hole(h) => write!(f, "hole {h}"),
-        }
-    }
-}
-
-fn check_finite_loop(id: LoopId, points: &[[f64; 2]]) -> Result<()> {
-    for (i, p) in points.iter().enumerate() {
-        if let Some(v) = p.iter().find(|v| !v.is_finite()) {
-            return Err(Error::BadOutline { reason: format!("point {i} of the {id} is not finite ({v})") });
-        }
-    }
-    Ok(())
-}
-
-/// One cleaned loop.
-struct Ring {
-    id: LoopId,
-    /// The input points kept (exact).
-    orig_pts: Vec<[f64; 2]>,
-    /// Their indices in the input.
-    orig: Vec<usize>,
-    /// The points in the normalised frame.
-    pts: Vec<[f64; 2]>,
-}
-
-impl Ring {
-    fn clean(id: LoopId, raw: &[[f64; 2]]) -> Result<Ring> {
-        let mut orig_pts: Vec<[f64; 2]> = Vec::with_capacity(raw.len());
-        let mut orig = Vec::with_capacity(raw.len());
-        for (i, &p) in raw.iter().enumerate() {
-            if orig_pts.last() != Some(&p) {
-                orig_pts.push(p);
-                orig.push(i);
-            }
-        }
-        while orig_pts.len() > 1 && orig_pts.first() == orig_pts.last() {
-            orig_pts.pop();
-            orig.pop();
-        }
-        if orig_pts.len() < 3 {
-            return Err(Error::BadOutline {
-                reason: format!("the {id} has {} distinct points; at least 3 are needed", orig_pts.len()),
-            });
-        }
-        Ok(Ring { id, orig_pts, orig, pts: Vec::new() })
-    }
-
-    fn len(&self) -> usize {
-        self.pts.len()
-    }
-
-    /// Segment `k` from point `k` to point `k + 1` (cyclically).
-    fn segment(&self, k: usize) -> ([f64; 2], [f64; 2]) {
-        (self.pts[k], self.pts[(k + 1) % self.len()])
-    }
-
-    fn describe_segment(&self, k: usize) -> String {
-        format!(
-            "segment {k} (points {}→{}) of the {}",
-            self.orig[k],
-            self.orig[(k + 1) % self.len()],
-            self.id
-        )
-    }
-
-    /// Rejects points that coincide once normalised (closer than the working precision).
-    fn check_edges(&self) -> Result<()> {
-        for k in 0..self.len() {
-            let (a, b) = self.segment(k);
-            if a == b {
-                return Err(Error::BadOutline {
-                    reason: format!(
-                        "points {} and {} of the {} are too close to tell apart",
-                        self.orig[k],
-                        self.orig[(k + 1) % self.len()],
-                        self.id
-                    ),
-                });
-            }
-        }
-        Ok(())
-    }
-
-    /// Whether all points lie on one line (within rounding).
-    fn is_collinear(&self) -> bool {
-        let p0 = self.pts[0];
-        let d2 = |p: &[f64; 2]| (p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2);
-        let far = self.pts.iter().copied().max_by(|a, b| d2(a).total_cmp(&d2(b))).unwrap_or(p0);
-        self.pts.iter().all(|&p| orient(p0, far, p) == 0)
-    }
-
-    fn doubled_area(&self) -> f64 {
-        (0..self.len())
-            .map(|k| {
-                let (a, b) = self.segment(k);
-                a[0] * b[1] - a[1] * b[0]
-            })
-            .sum()
-    }
-
-    fn perimeter(&self) -> f64 {
-        (0..self.len())
-            .map(|k| {
-                let (a, b) = self.segment(k);
-                (b[0] - a[0]).hypot(b[1] - a[1])
-            })
-            .sum()
-    }
-}
-
-/// Maps the input into `[-1, 1]²` (centre and scale of the bounding box of all points), so
-/// that spade sees well-scaled coordinates whatever the input's units.
-struct Frame {
-    centre: [f64; 2],
-    scale: f64,
-}
-
-impl Frame {
-    fn of(rings: &[Ring]) -> Frame {
-        let (lo, hi) = bounds(rings.iter().flat_map(|r| r.orig_pts.iter().copied()));
-        // Halves first: no overflow even for coordinates near f64::MAX.
-        let centre = [lo[0] / 2.0 + hi[0] / 2.0, lo[1] / 2.0 + hi[1] / 2.0];
-        let scale = (hi[0] / 2.0 - lo[0] / 2.0).max(hi[1] / 2.0 - lo[1] / 2.0);
-        // scale > 0: each ring has three distinct points.
-        Frame { centre, scale }
-    }
-
-    fn to_unit(&self, p: [f64; 2]) -> [f64; 2] {
-        let q = [(p[0] - self.centre[0]) / self.scale, (p[1] - self.centre[1]) / self.scale];
-        // spade rejects nonzero coordinates below about 1.8e-43.
-        q.map(|v| if v.abs() < 1e-30 { 0.0 } else { v })
-    }
-
-    fn to_input(&self, q: [f64; 2]) -> [f64; 2] {
-        [self.centre[0] + q[0] * self.scale, self.centre[1] + q[1] * self.scale]
-    }
-}
-
-/// Whether consecutive segments `ab`, `bc` fold back onto each other (a zero-angle spike).
-fn folds(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> bool {
-    orient(a, b, c) == 0 && (a[0] - b[0]) * (c[0] - b[0]) + (a[1] - b[1]) * (c[1] - b[1]) > 0.0
-}
-
-/// A segment: its ring and index there.
-struct Seg {
-    ring: usize,
-    k: usize,
-}
-
-/// Rejects any two segments (of any loops) that cross, touch or overlap, other than
-/// consecutive segments meeting at their shared point. Sweep-and-prune along the axis in
-/// which segments overlap least: O(m log m + k) for m segments and k pairs whose bounding
-/// boxes overlap (O(m) for typical outlines, O(m²) at worst).
-fn check_crossings(rings: &[Ring]) -> Result<()> {
-    let mut segs = Vec::with_capacity(rings.iter().map(Ring::len).sum());
-    let mut boxes = Vec::with_capacity(segs.capacity());
-    for (ri, ring) in rings.iter().enumerate() {
-        for k in 0..ring.len() {
-            let (a, b) = ring.segment(k);
-            segs.push(Seg { ring: ri, k });
-            boxes.push(segment_box(a, b));
-        }
-    }
-    let (blo, bhi) = bounds(rings[0].pts.iter().copied());
-    let mut conflict = None;
-    overlapping_pairs(&boxes, sweep_axis(&boxes, blo, bhi), |i, j| {
-        let (s, t) = (&segs[i], &segs[j]);
-        if pair_conflicts(rings, s, t) {
-            conflict = Some(if (t.ring, t.k) < (s.ring, s.k) { (t, s) } else { (s, t) });
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    });
-    match conflict {
-        None => Ok(()),
-        Some((first, second)) => Err(Error::BadOutline {
-            reason: format!(
-                "{} crosses or touches {}",
-                rings[first.ring].describe_segment(first.k),
-                rings[second.ring].describe_segment(second.k)
-            ),
+/// Checks a `max_vertices` option against [`crate::limits::MAX_VERTICES`] (outlines and
+/// pictures alike). Errors: [`Error::BadOption`].
+pub(crate) fn check_max_vertices(max_vertices: Option<usize>) -> Result<()> {
+    match max_vertices.filter(|&n| n > crate::limits::MAX_VERTICES) {
+        Some(n) => Err(Error::BadOption {
+            name: "max_vertices",
+            value: Some(n as f64),
+            reason: format!("is more than the limit of {}", crate::limits::MAX_VERTICES),
         }),
+        None => Ok(()),
     }
-}
-
-fn pair_conflicts(rings: &[Ring], s: &Seg, t: &Seg) -> bool {
-    if s.ring == t.ring {
-        let ring = &rings[s.ring];
-        let n = ring.len();
-        if (s.k + 1) % n == t.k {
-            let (a, b) = ring.segment(s.k);
-            return folds(a, b, ring.segment(t.k).1);
-        }
-        if (t.k + 1) % n == s.k {
-            let (a, b) = ring.segment(t.k);
-            return folds(a, b, ring.segment(s.k).1);
-        }
-    }
-    let (a, b) = rings[s.ring].segment(s.k);
-    let (c, d) = rings[t.ring].segment(t.k);
-    segments_meet(a, b, c, d)
-}
-
-/// Crossing-number point-in-polygon test (for points not on the boundary). O(n).
-pub(crate) fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
-    let mut odd = false;
-    let n = poly.len();
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
-}
-
-/// With no crossings, a loop lies inside another iff any of its points does.
-fn check_holes(rings: &[Ring]) -> Result<()> {
-    let boxes: Vec<_> = rings.iter().map(|r| bounds(r.pts.iter().copied())).collect();
-    let contains = |outer: usize, inner: usize| {
-        let ((olo, ohi), (ilo, ihi)) = (boxes[outer], boxes[inner]);
-        olo[0] <= ilo[0]
-            && olo[1] <= ilo[1]
-            && ohi[0] >= ihi[0]
-            && ohi[1] >= ihi[1]
-            && inside(rings[inner].pts[0], &rings[outer].pts)
-    };
-    for (h, ring) in rings.iter().enumerate().skip(1) {
-        if !contains(0, h) {
-            return Err(Error::BadOutline {
-                reason: format!("the {} is not inside the outer outline", ring.id),
-            });
-        }
-    }
-    for h in 1..rings.len() {
-        for g in 1..rings.len() {
-            if g != h && contains(g, h) {
-                return Err(Error::BadOutline {
-                    reason: format!("the {} lies inside the {}", rings[h].id, rings[g].id),
-                });
-            }
-        }
-    }
-    Ok(())
 }
 
 /// The spacing (normalised units) at which the estimated vertex count meets `budget`:
@@ -623,132 +375,4 @@ pub(crate) fn spacing_for_budget(area: f64, perimeter: f64, outline_points: usiz
     }
     let u = (-b + (b * b + 4.0 * a * room).sqrt()) / (2.0 * a);
     1.0 / u
-}
-
-// ---------------------------------------------------------------------------------------
-// Triangulation
-
-/// The points and constraint edges handed to spade: the rings' points first (in ring
-/// order), then the subdivision points of long outline edges.
-struct Input {
-    points: Vec<Point2<f64>>,
-    edges: Vec<[usize; 2]>,
-}
-
-impl Input {
-    fn build(rings: &[Ring], spacing: f64) -> Input {
-        let outline_points: usize = rings.iter().map(Ring::len).sum();
-        let mut points: Vec<Point2<f64>> =
-            rings.iter().flat_map(|r| r.pts.iter().map(|p| Point2::new(p[0], p[1]))).collect();
-        let mut edges = Vec::with_capacity(outline_points);
-        let mut base = 0;
-        for ring in rings {
-            let n = ring.len();
-            for k in 0..n {
-                let (a, b) = ring.segment(k);
-                let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-                // The estimate check bounds len / spacing.
-                let pieces = ((len / spacing).ceil() as usize).max(1);
-                let mut prev = base + k;
-                for p in 1..pieces {
-                    let t = p as f64 / pieces as f64;
-                    points.push(Point2::new(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])));
-                    edges.push([prev, points.len() - 1]);
-                    prev = points.len() - 1;
-                }
-                edges.push([prev, base + (k + 1) % n]);
-            }
-            base += n;
-        }
-        Input { points, edges }
-    }
-}
-
-/// A refined triangulation: spade's vertices (normalised) and the kept triangles.
-struct Triangulated {
-    positions: Vec<[f64; 2]>,
-    triangles: Vec<[usize; 3]>,
-    vertex_count: usize,
-    complete: bool,
-}
-
-fn triangulate(input: &Input, spacing: f64, min_angle_deg: f64, cap: usize) -> Result<Triangulated> {
-    let failed =
-        |why: String| Error::BadOutline { reason: format!("the constrained triangulation failed: {why}") };
-    let max_area = 3f64.sqrt() / 4.0 * spacing * spacing;
-    let params = RefinementParameters::<f64>::new()
-        .exclude_outer_faces(true)
-        .with_angle_limit(AngleLimit::from_deg(min_angle_deg))
-        .with_max_allowed_area(max_area)
-        .with_max_additional_vertices(cap);
-    let n = input.points.len();
-    // Validation rules out every input spade documents as panicking (crossing or
-    // overlapping constraints); refinement can still `expect` on precision loss, so catch
-    // that on targets that unwind.
-    let run = catch_unwind(AssertUnwindSafe(|| {
-        let mut conflict = false;
-        let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-            ConstrainedDelaunayTriangulation::try_bulk_load_cdt(
-                input.points.clone(),
-                input.edges.clone(),
-                |_| conflict = true,
-            )
-            .map_err(|e| failed(format!("{e}")))?;
-        if conflict || cdt.num_vertices() != n {
-            return Err(failed("the outline has overlapping segments or coinciding points".into()));
-        }
-        let result = cdt.refine(params);
-        let mut excluded = vec![false; cdt.num_all_faces()];
-        for f in &result.excluded_faces {
-            excluded[f.index()] = true;
-        }
-        let triangles: Vec<[usize; 3]> = cdt
-            .inner_faces()
-            .filter(|f| !excluded[f.fix().index()])
-            .map(|f| f.vertices().map(|v| v.fix().index()))
-            .collect();
-        let positions: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
-        Ok((positions, triangles, result.refinement_complete))
-    }));
-    let (positions, triangles, complete) = match run {
-        Ok(r) => r?,
-        Err(panic) => {
-            let why = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "spade panicked".into());
-            return Err(failed(why));
-        }
-    };
-    let mut used = vec![false; positions.len()];
-    for t in &triangles {
-        for &v in t {
-            used[v] = true;
-        }
-    }
-    let vertex_count = used.iter().filter(|&&u| u).count();
-    Ok(Triangulated { positions, triangles, vertex_count, complete })
-}
-
-impl Triangulated {
-    /// Compacts the used vertices (keeping spade's order, so the outline comes first),
-    /// restores the input's exact outline coordinates and builds the [`Mesh`].
-    fn into_mesh(self, rings: &[Ring], frame: &Frame) -> Result<Mesh> {
-        let outline: Vec<[f64; 2]> = rings.iter().flat_map(|r| r.orig_pts.iter().copied()).collect();
-        let mut used = vec![false; self.positions.len()];
-        for t in &self.triangles {
-            for &v in t {
-                used[v] = true;
-            }
-        }
-        let mut index = vec![u32::MAX; self.positions.len()];
-        let mut vertices = Vec::with_capacity(self.vertex_count);
-        for v in (0..used.len()).filter(|&v| used[v]) {
-            index[v] = vertices.len() as u32;
-            vertices.push(if v < outline.len() { outline[v] } else { frame.to_input(self.positions[v]) });
-        }
-        let triangles = self.triangles.iter().map(|t| t.map(|v| index[v])).collect();
-        Mesh::new(vertices, triangles)
-    }
 }

@@ -236,6 +236,7 @@ pub fn shape_from_outline(
     holes: &[Vec<[f64; 2]>],
     options: &OutlineOptions,
 ) -> Result<ShapeMesh> {
+    options.check()?;
     if options.simulation_vertices != Some(0) {
         // The loops are validated (and the spacing the mesher would use found) cheaply: a
         // mesh as coarse as the outline allows.
@@ -253,7 +254,7 @@ pub fn shape_from_outline(
 /// The spacing [`mesh_outline`] meshes `outer` and `holes` at for `options` (the given or
 /// default spacing, enlarged to meet `max_vertices`).
 fn rendered_spacing(outer: &[[f64; 2]], holes: &[Vec<[f64; 2]>], options: &OutlineOptions, diag: f64) -> f64 {
-    use crate::meshing::image::{area, perimeter};
+    use crate::meshing::loops::{area, perimeter};
     let spacing = options.spacing.unwrap_or(diag / crate::meshing::outline::DEFAULT_SPACING_DIVISOR);
     let Some(budget) = options.max_vertices else { return spacing };
     let a = area(outer).abs() - holes.iter().map(|h| area(h).abs()).sum::<f64>();

@@ -115,7 +115,10 @@ impl Coverage {
             return;
         }
         let (dir, top, bottom) = if p[1] < q[1] { (weight, p, q) } else { (-weight, q, p) };
-        let dxdy = (bottom[0] - top[0]) / (bottom[1] - top[1]);
+        // x at height y, from the fraction of the way down (in [0, 1]), not from a slope: a
+        // segment whose height is subnormal has an infinite slope, and 0 · ∞ is NaN.
+        let (dx, dy) = (bottom[0] - top[0], bottom[1] - top[1]);
+        let x_at = |y: f64| top[0] + dx * ((y - top[1]) / dy);
         let (stride, w) = (self.stride(), self.width as f64);
         let j0 = top[1].floor() as usize;
         let j1 = (bottom[1].ceil() as usize).min(self.height);
@@ -125,8 +128,8 @@ impl Coverage {
                 continue;
             }
             let d = (y1 - y0) * dir;
-            let xa0 = (top[0] + (y0 - top[1]) * dxdy).clamp(0.0, w);
-            let xb0 = (top[0] + (y1 - top[1]) * dxdy).clamp(0.0, w);
+            let xa0 = x_at(y0).clamp(0.0, w);
+            let xb0 = x_at(y1).clamp(0.0, w);
             let (xa, xb) = if xa0 <= xb0 { (xa0, xb0) } else { (xb0, xa0) };
             let row = &mut self.cells[j * stride..(j + 1) * stride];
             let ia = xa as usize; // floor: xa ≥ 0

@@ -128,27 +128,27 @@ mod composite;
 mod coverage;
 mod depth;
 mod edges;
+mod levels;
 mod overlay;
+mod painter;
 mod raster;
 
 use crate::error::{Error, Result};
 use crate::limits::size_allowed;
-use composite::{composite, composite_over, demultiply, premultiplied};
+use composite::composite;
 use coverage::{Coverage, Region};
 use depth::DepthOrder;
 pub use depth::MAX_LEVELS;
 use edges::Topology;
+use levels::Levels;
 pub use overlay::{DepthOverlay, Line, Overlays, PinGlyph, PinOverlay, StarchOverlay, MAX_OVERLAY_SIZE};
-use raster::{div255, Target, Texture, TextureMap};
+use painter::Painter;
+use raster::{div255, Target, Texture};
 
 /// The largest output-pixel coordinate a vertex may have after the transform: far beyond
 /// any frame (at most [`MAX_SIDE`](crate::limits::MAX_SIDE) pixels a side), small enough for the scan conversion's
 /// arithmetic to stay exact to a tiny fraction of a pixel.
 pub const MAX_PIXEL_COORDINATE: f64 = 1e9;
-
-/// Half the width of the strip filled around silhouette edges, in output pixels: every
-/// pixel that anti-aliasing partly covers has its centre within √2 / 2 of the silhouette.
-const FRINGE: f64 = 1.0;
 
 /// Twice a triangle's area, in square output pixels, at or below which it is skipped.
 const ZERO_AREA: f64 = 1e-12;
@@ -240,18 +240,6 @@ pub struct Renderer {
     /// one `u32` a pixel; allocated on the first frame with several depth levels).
     depth: DepthOrder,
     levels: Levels,
-}
-
-/// Per-frame scratch of a frame with several depth levels.
-#[derive(Debug, Default)]
-struct Levels {
-    frame: Vec<u32>,
-    /// The bounding box `[lo, hi]` of each level's corners, then of each `S_l` (the level
-    /// and every level in front of it).
-    own: Vec<[[f64; 2]; 2]>,
-    union: Vec<[[f64; 2]; 2]>,
-    /// The sum of the signed areas of each `S_l`'s triangles: its majority orientation.
-    area: Vec<f64>,
 }
 
 impl Renderer {
@@ -485,105 +473,6 @@ impl Renderer {
         }
     }
 
-    /// A frame with several depth levels (module docs, "Depth"): level by level from the
-    /// back, its layer (its triangles in depth order, its silhouette strips first) with the
-    /// coverage of its part of the mesh and every part in front of it, over the frame so
-    /// far; then the frame demultiplied into `out`.
-    fn draw_levels(
-        &mut self,
-        triangles: &[[u32; 3]],
-        uvs: &[[f32; 2]],
-        region: &Region,
-        background: [u8; 4],
-        out: &mut [u8],
-    ) {
-        let (w, h) = (self.coverage.width, self.coverage.height);
-        let (order, levels) = (&self.depth, &mut self.levels);
-        let count = order.levels();
-        if levels.frame.len() != w * h {
-            levels.frame.clear();
-            levels.frame.resize(w * h, 0);
-        }
-        let bg = premultiplied(background);
-        for j in region.y0..region.y1 {
-            levels.frame[j * w + region.x0..j * w + region.x1.min(w)].fill(bg);
-        }
-        // Bounding boxes and orientations per level, then of every S_l (suffix unions).
-        let empty = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-        levels.own.clear();
-        levels.own.resize(count, empty);
-        levels.area.clear();
-        levels.area.resize(count, 0.0);
-        for (t, tri) in triangles.iter().enumerate() {
-            let l = order.level_of[t] as usize;
-            let b = &mut levels.own[l];
-            for &v in tri {
-                let p = self.pixels[v as usize];
-                b[0] = [b[0][0].min(p[0]), b[0][1].min(p[1])];
-                b[1] = [b[1][0].max(p[0]), b[1][1].max(p[1])];
-            }
-            levels.area[l] += self.areas[t];
-        }
-        levels.union.clear();
-        levels.union.extend_from_slice(&levels.own);
-        for l in (0..count.saturating_sub(1)).rev() {
-            let (u, next) = (levels.union[l], levels.union[l + 1]);
-            levels.union[l] = [
-                [u[0][0].min(next[0][0]), u[0][1].min(next[0][1])],
-                [u[1][0].max(next[1][0]), u[1][1].max(next[1][1])],
-            ];
-            levels.area[l] += levels.area[l + 1];
-        }
-
-        let areas = &self.areas;
-        let painter = Painter { pixels: &self.pixels, triangles, uvs, texture: &self.texture };
-        for l in 0..count {
-            let own = Region::of_box(levels.own[l][0], levels.own[l][1], w, h);
-            let union = Region::of_box(levels.union[l][0], levels.union[l][1], w, h);
-            let mut target = Target { texels: &mut self.layer, width: w, height: h };
-            for &(_, t, k) in &order.strips[order.strip_starts[l]..order.strip_starts[l + 1]] {
-                if areas[t as usize].abs() > ZERO_AREA {
-                    painter.strip(&mut target, t, k);
-                }
-            }
-            for &(_, t, k, u, opposite) in &order.folds[order.fold_starts[l]..order.fold_starts[l + 1]] {
-                let (s, o) = (areas[t as usize], areas[u as usize]);
-                if s.abs() > ZERO_AREA && ((s > 0.0) == (o > 0.0)) != opposite {
-                    painter.strip(&mut target, t, k);
-                }
-            }
-            for &t in &order.order[order.level_starts[l]..order.level_starts[l + 1]] {
-                if areas[t as usize].abs() > ZERO_AREA {
-                    painter.triangle(&mut target, t as usize);
-                }
-            }
-            // The coverage of S_l: its boundary, and its triangles against its majority
-            // orientation twice more the majority's way round (as in `draw_coverage`).
-            for &(_, from, to) in &order.edges[order.edge_starts[l]..order.edge_starts[l + 1]] {
-                self.coverage.segment(self.pixels[from as usize], self.pixels[to as usize], 1.0);
-            }
-            let majority = levels.area[l] >= 0.0;
-            for &t in &order.order[order.level_starts[l]..] {
-                let area = areas[t as usize];
-                if area.abs() > ZERO_AREA && (area > 0.0) != majority {
-                    let [a, b, c] = triangles[t as usize].map(|v| self.pixels[v as usize]);
-                    for (p, q) in [(a, c), (c, b), (b, a)] {
-                        self.coverage.segment(p, q, 2.0);
-                    }
-                }
-            }
-            composite_over(&self.layer, &self.coverage, &own, union.x0, &mut levels.frame);
-            let stride = self.coverage.stride();
-            for j in own.y0..own.y1 {
-                self.layer[j * w + own.x0..j * w + own.x1.min(w)].fill(0);
-            }
-            for j in union.y0..union.y1 {
-                self.coverage.cells[j * stride + union.x0..j * stride + union.x1].fill(0.0);
-            }
-        }
-        demultiply(&levels.frame, w, region, background, out);
-    }
-
     /// Step 2 of the module docs: the anti-aliased union of the triangles.
     fn draw_coverage(&mut self, triangles: &[[u32; 3]]) {
         let coverage = &mut self.coverage;
@@ -606,56 +495,6 @@ impl Renderer {
                 }
             }
         }
-    }
-}
-
-/// What drawing a triangle or a silhouette strip into the layer needs.
-struct Painter<'a> {
-    pixels: &'a [[f64; 2]],
-    triangles: &'a [[u32; 3]],
-    uvs: &'a [[f32; 2]],
-    texture: &'a Texture,
-}
-
-impl Painter<'_> {
-    fn corners(&self, t: usize) -> [[f64; 2]; 3] {
-        self.triangles[t].map(|i| self.pixels[i as usize])
-    }
-
-    /// Triangle `t`'s map from output pixels to texture pixels.
-    fn map(&self, t: usize) -> TextureMap {
-        let texture = self.texture;
-        let tex = self.triangles[t].map(|i| {
-            let uv = self.uvs[i as usize];
-            [uv[0] as f64 * texture.width as f64, uv[1] as f64 * texture.height as f64]
-        });
-        TextureMap::new(self.corners(t), tex)
-    }
-
-    /// Triangle `t`, textured.
-    fn triangle(&self, target: &mut Target, t: usize) {
-        target.fill(&self.corners(t), &self.map(t), self.texture);
-    }
-
-    /// The strip `FRINGE` pixels either side of triangle `t`'s local edge `k` (and beyond its
-    /// ends), textured with the triangle's map extended.
-    fn strip(&self, target: &mut Target, t: u32, k: u8) {
-        let (t, k) = (t as usize, k as usize);
-        let c = self.corners(t);
-        let (a, b) = (c[k], c[(k + 1) % 3]);
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let len = dx.hypot(dy);
-        if len <= 1e-9 {
-            return;
-        }
-        let (ex, ey) = (dx / len * FRINGE, dy / len * FRINGE);
-        let quad = [
-            [a[0] - ex + ey, a[1] - ey - ex],
-            [b[0] + ex + ey, b[1] + ey - ex],
-            [b[0] + ex - ey, b[1] + ey + ex],
-            [a[0] - ex - ey, a[1] - ey + ex],
-        ];
-        target.fill(&quad, &self.map(t), self.texture);
     }
 }
 

@@ -12,7 +12,7 @@ use crate::mesh::Mesh;
 pub const MAX_FACTOR: u32 = 64;
 
 /// The largest rendered mesh [`refine`] builds, in vertices.
-pub const MAX_RENDERED_VERTICES: usize = 1 << 22;
+pub const MAX_RENDERED_VERTICES: usize = crate::limits::MAX_VERTICES;
 
 /// A refinement before it becomes a [`Simulation`]: the rendered vertices and triangles,
 /// each rendered vertex's parent and weights, and where it sits on the simulation mesh.

@@ -1,20 +1,16 @@
 //! `Track` (recorded pin motion) and `Player` (a puppet document played at any time): thin
-//! wrappers over [`crate::animation`]. JSON is parsed and written by the JavaScript
-//! engine; documents are read into the core's types field by field with `Reflect`
-//! (serde's derived code for a dozen structs would add tens of kilobytes to the .wasm).
+//! wrappers over [`crate::animation`]. Documents and tracks' JSON are read into the core's
+//! typed structs by serde ([`crate::animation::read`]): JSON text by serde_json, objects by
+//! serde-wasm-bindgen; `toJSON` writes them back with serde-wasm-bindgen.
 
-use js_sys::{Array, Float32Array, Float64Array, Object, Reflect, Uint32Array};
+use js_sys::{Array, Float32Array, Float64Array, Object, Uint32Array};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
 use super::errors::{bad_option, bad_type, describe, number};
 use super::options::Fields as OptionFields;
 use super::{flat, read_exact, typed, Thrown, TypedArray};
-use crate::animation::{
-    self, BlendJson, Document, DocumentFault, MeshJson, MeshingJson, Mode, OverlapJson, PictureJson,
-    PinsJson, PoseJson, PuppetJson, SimulationJson, StarchJson, TermWeightsJson, Track, TrackJson,
-    TrackOptions, WeightsJson,
-};
+use crate::animation::{self, Document, DocumentFault, Mode, Track, TrackJson, TrackOptions};
 use crate::{Error, PinKind, Rotation};
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -27,7 +23,7 @@ export interface TrackOptions {
    *  to the raw one (an exponential low-pass filter, the same at any recording rate; it lags about
    *  `smoothing` behind a fast drag). Default 0 (raw). */
   smoothing?: number;
-  /** How much faster playback runs than the recording (> 0): 2 plays a 4-second drag in 2 seconds.
+  /** How much faster playback runs than the recording, in [10⁻⁶, 10⁶]: 2 plays a 4-second drag in 2 seconds.
    *  Default 1. */
   speed?: number;
   /** The track time of the first recorded sample, in seconds. Default 0. */
@@ -313,7 +309,7 @@ impl JsTrack {
     pub fn from_json(
         #[wasm_bindgen(unchecked_param_type = "string | TrackJSON")] json: JsValue,
     ) -> Result<JsTrack, Thrown> {
-        let data = read_track(&object(json)?, "track".into())?;
+        let data = TrackJson::from_json(&json_text(json)?, "track").map_err(Error::from)?;
         Ok(JsTrack::wrap(Track::from_json(&data)?))
     }
 }
@@ -333,7 +329,8 @@ impl JsTrack {
 pub struct JsPlayer {
     player: animation::Player,
     out: Vec<[f64; 2]>,
-    /// The document as loaded, as JSON text (what `toJSON` parses again).
+    /// The document as loaded, as JSON text (what `toJSON` parses again: the numbers as
+    /// given, bit for bit, with no serialiser in the module).
     text: js_sys::JsString,
 }
 
@@ -349,17 +346,10 @@ impl JsPlayer {
     pub fn load(
         #[wasm_bindgen(unchecked_param_type = "string | PuppetDocument")] document: JsValue,
     ) -> Result<JsPlayer, Thrown> {
-        let object = object(document)?;
-        let field = |key: &str| Reflect::get(&object, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
-        let (format, version) = (field("format"), field("version"));
-        animation::check_header(format.as_string().as_deref(), version.as_f64())?;
-        let player = animation::Player::new(read_document(&object)?)?;
+        let text = json_text(document)?;
+        let player = animation::Player::new(Document::from_json(&text).map_err(Error::from)?)?;
         let out = vec![[0.0; 2]; player.mesh().vertices().len()];
-        // JSON.stringify writes every number in its shortest round-trip form: parsing it
-        // back gives the same numbers, bit for bit.
-        let text =
-            js_sys::JSON::stringify(&object).map_err(|_| bad("", "could not be written as JSON".into()))?;
-        Ok(JsPlayer { player, out, text })
+        Ok(JsPlayer { player, out, text: text.into() })
     }
 
     /// The positions at time `t` (seconds; with `loop`, `t` modulo `duration`) as a new
@@ -489,342 +479,29 @@ fn bad(field: &str, reason: String) -> Thrown {
     Error::BadDocument { fault: DocumentFault::Structure, field: field.into(), value: None, reason }.into()
 }
 
-/// The object `value` is, or the one its JSON text holds.
-fn object(value: JsValue) -> Result<JsValue, Thrown> {
-    let value = match value.as_string() {
-        Some(text) => js_sys::JSON::parse(&text).map_err(|e| {
-            let why = e.dyn_into::<js_sys::Error>().map(|e| String::from(e.message())).unwrap_or_default();
-            bad("", format!("is not JSON ({why})"))
-        })?,
-        None => value,
-    };
+/// The JSON text of `value`, a document or a track's JSON given as an object or as its
+/// text. An object is written as text by the engine (`JSON.stringify`, which throws on
+/// nesting deeper than its stack, caught here), so that one reader reads both: the core's
+/// serde_json reader ([`crate::animation`]), whose recursion limit bounds the nesting of any
+/// input and whose numbers are only numbers (a NaN, which `JSON.stringify` writes as
+/// `null`, is an error).
+fn json_text(value: JsValue) -> Result<String, Thrown> {
+    if let Some(js) = value.dyn_ref::<js_sys::JsString>() {
+        // A lone surrogate would become U+FFFD in Rust's string: saved differently.
+        if !js.is_valid_utf16() {
+            return Err(bad("", "holds a lone surrogate (text that is not valid UTF-16)".into()));
+        }
+    }
+    if let Some(text) = value.as_string() {
+        return Ok(text);
+    }
     if !value.is_object() || Array::is_array(&value) {
         return Err(bad("", format!("expected an object or its JSON text, got {}", describe(&value))));
     }
-    Ok(value)
-}
-
-/// One object of a document, read field by field with `Reflect` (the JS engine parsed the
-/// JSON; no serde in wasm): a key it does not know is an error naming its path, so that a
-/// misspelt field is never ignored; `undefined` and `null` count as absent.
-struct Fields<'a> {
-    object: &'a JsValue,
-    path: String,
-}
-
-impl<'a> Fields<'a> {
-    fn open(object: &'a JsValue, path: String, known: &[&str]) -> Result<Fields<'a>, Thrown> {
-        if !object.is_object() || Array::is_array(object) {
-            return Err(bad(&path, format!("expected an object, got {}", describe(object))));
-        }
-        let fields = Fields { object, path };
-        for key in Object::keys(object.unchecked_ref::<Object>()).iter() {
-            let name = key.as_string().unwrap_or_default();
-            if !known.contains(&name.as_str()) && fields.get(&name).is_some() {
-                let reason = format!("is not a field of this format (known: {})", known.join(", "));
-                return Err(bad(&fields.at(&name), reason));
-            }
-        }
-        Ok(fields)
-    }
-
-    #[inline(never)]
-    fn at(&self, key: &str) -> String {
-        if self.path.is_empty() {
-            key.into()
-        } else {
-            format!("{}.{key}", self.path)
-        }
-    }
-
-    fn get(&self, key: &str) -> Option<JsValue> {
-        let v = Reflect::get(self.object, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
-        (!v.is_undefined() && !v.is_null()).then_some(v)
-    }
-
-    #[inline(never)]
-    fn wrong(&self, key: &str, expected: &str, v: &JsValue) -> Thrown {
-        bad(&self.at(key), format!("expected {expected}, got {}", describe(v)))
-    }
-
-    fn required<T>(&self, key: &str, value: Result<Option<T>, Thrown>) -> Result<T, Thrown> {
-        value?.ok_or_else(|| bad(&self.at(key), "is missing".into()))
-    }
-
-    #[inline(never)]
-    fn number(&self, key: &str) -> Result<Option<f64>, Thrown> {
-        self.get(key).map(|v| v.as_f64().ok_or_else(|| self.wrong(key, "a number", &v))).transpose()
-    }
-
-    fn whole(&self, key: &str) -> Result<Option<u32>, Thrown> {
-        let Some(x) = self.number(key)? else { return Ok(None) };
-        if x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64 {
-            Ok(Some(x as u32))
-        } else {
-            Err(self.wrong(key, "a whole number", &x.into()))
-        }
-    }
-
-    #[inline(never)]
-    fn string(&self, key: &str) -> Result<Option<String>, Thrown> {
-        self.get(key).map(|v| v.as_string().ok_or_else(|| self.wrong(key, "a string", &v))).transpose()
-    }
-
-    fn boolean(&self, key: &str) -> Result<Option<bool>, Thrown> {
-        self.get(key).map(|v| v.as_bool().ok_or_else(|| self.wrong(key, "a boolean", &v))).transpose()
-    }
-
-    #[inline(never)]
-    fn array(&self, key: &str) -> Result<Option<Array>, Thrown> {
-        match self.get(key) {
-            Some(v) if Array::is_array(&v) => Ok(Some(v.unchecked_into())),
-            Some(v) => Err(self.wrong(key, "an array", &v)),
-            None => Ok(None),
-        }
-    }
-
-    /// An array of numbers, converted by the engine (`new Float64Array(array)`); an item
-    /// that is not a number becomes NaN, which the core's checks name.
-    fn numbers(&self, key: &str) -> Result<Option<Vec<f64>>, Thrown> {
-        Ok(self.array(key)?.map(|a| Float64Array::new(&a).to_vec()))
-    }
-
-    fn wholes(&self, key: &str) -> Result<Option<Vec<u32>>, Thrown> {
-        let Some(x) = self.numbers(key)? else { return Ok(None) };
-        match x.iter().position(|&x| !(x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64)) {
-            Some(i) => {
-                Err(bad(&format!("{}[{i}]", self.at(key)), format!("{} is not a vertex index", number(x[i]))))
-            }
-            None => Ok(Some(x.into_iter().map(|x| x as u32).collect())),
-        }
-    }
-
-    fn strings(&self, key: &str) -> Result<Option<Vec<String>>, Thrown> {
-        let Some(a) = self.array(key)? else { return Ok(None) };
-        let strings: Option<Vec<String>> = a.iter().map(|v| v.as_string()).collect();
-        strings.map(Some).ok_or_else(|| self.wrong(key, "an array of strings", &a))
-    }
-
-    fn point(&self, key: &str) -> Result<[f64; 2], Thrown> {
-        let p = self.required(key, self.numbers(key))?;
-        match p[..] {
-            [x, y] => Ok([x, y]),
-            _ => Err(self.wrong(key, "[x, y]", &JsValue::UNDEFINED)),
-        }
-    }
-
-    /// Each object of the array `key`, read by `read` with its path.
-    fn list<T>(
-        &self,
-        key: &str,
-        read: impl Fn(&JsValue, String) -> Result<T, Thrown>,
-    ) -> Result<Option<Vec<T>>, Thrown> {
-        let Some(a) = self.array(key)? else { return Ok(None) };
-        let path = self.at(key);
-        a.iter()
-            .enumerate()
-            .map(|(i, v)| read(&v, format!("{path}[{i}]")))
-            .collect::<Result<_, _>>()
-            .map(Some)
-    }
-}
-
-/// A document's fields (the header was checked before).
-fn read_document(object: &JsValue) -> Result<Document, Thrown> {
-    let known = [
-        "format",
-        "version",
-        "picture",
-        "meshing",
-        "mesh",
-        "simulation",
-        "puppet",
-        "pins",
-        "starch",
-        "overlap",
-        "blend",
-        "poses",
-        "track",
-        "weights",
-        "play",
-        "loop",
-        "duration",
-    ];
-    let f = Fields::open(object, String::new(), &known)?;
-    let sub = |key: &str| f.get(key);
-    let picture = match sub("picture") {
-        None => None,
-        Some(v) => {
-            let p = Fields::open(&v, "picture".into(), &["url", "width", "height"])?;
-            Some(PictureJson {
-                url: p.required("url", p.string("url"))?,
-                width: p.whole("width")?,
-                height: p.whole("height")?,
-            })
-        }
-    };
-    let meshing = match sub("meshing") {
-        None => None,
-        Some(v) => {
-            let keys = [
-                "from",
-                "spacing",
-                "minAngle",
-                "maxVertices",
-                "alphaThreshold",
-                "margin",
-                "simplify",
-                "minArea",
-            ];
-            let m = Fields::open(&v, "meshing".into(), &keys)?;
-            Some(MeshingJson {
-                from: m.string("from")?,
-                spacing: m.number("spacing")?,
-                min_angle: m.number("minAngle")?,
-                max_vertices: m.number("maxVertices")?,
-                alpha_threshold: m.number("alphaThreshold")?,
-                margin: m.number("margin")?,
-                simplify: m.number("simplify")?,
-                min_area: m.number("minArea")?,
-            })
-        }
-    };
-    let mesh = {
-        let v = f.required("mesh", Ok(sub("mesh")))?;
-        let m = Fields::open(&v, "mesh".into(), &["vertices", "triangles", "uvs"])?;
-        MeshJson {
-            vertices: m.required("vertices", m.numbers("vertices"))?,
-            triangles: m.required("triangles", m.wholes("triangles"))?,
-            uvs: m.numbers("uvs")?,
-        }
-    };
-    let simulation = match sub("simulation") {
-        None => None,
-        Some(v) => {
-            let m = Fields::open(&v, "simulation".into(), &["vertices", "triangles", "parent", "weights"])?;
-            Some(SimulationJson {
-                vertices: m.required("vertices", m.numbers("vertices"))?,
-                triangles: m.required("triangles", m.wholes("triangles"))?,
-                parent: m.required("parent", m.wholes("parent"))?,
-                weights: m.required("weights", m.numbers("weights"))?,
-            })
-        }
-    };
-    let puppet = match sub("puppet") {
-        None => None,
-        Some(v) => {
-            let keys = [
-                "method",
-                "weights",
-                "handleWeight",
-                "iterations",
-                "preserveArea",
-                "termWeights",
-                "maxSolves",
-                "regularization",
-            ];
-            let p = Fields::open(&v, "puppet".into(), &keys)?;
-            let term_weights = match p.get("termWeights") {
-                None => None,
-                Some(t) => {
-                    let t = Fields::open(&t, p.at("termWeights"), &["laplacian", "meanValue", "edgeLength"])?;
-                    Some(TermWeightsJson {
-                        laplacian: t.number("laplacian")?,
-                        mean_value: t.number("meanValue")?,
-                        edge_length: t.number("edgeLength")?,
-                    })
-                }
-            };
-            Some(PuppetJson {
-                method: p.string("method")?,
-                weights: p.string("weights")?,
-                handle_weight: p.number("handleWeight")?,
-                iterations: p.whole("iterations")?,
-                preserve_area: p.boolean("preserveArea")?,
-                term_weights,
-                max_solves: p.whole("maxSolves")?,
-                regularization: p.number("regularization")?,
-            })
-        }
-    };
-    let pins = match sub("pins") {
-        None => None,
-        Some(v) => {
-            let p = Fields::open(&v, "pins".into(), &["points", "kinds", "radius"])?;
-            Some(PinsJson {
-                points: p.required("points", p.numbers("points"))?,
-                kinds: p.strings("kinds")?,
-                radius: p.numbers("radius")?,
-            })
-        }
-    };
-    let starch = f.list("starch", |v, path| {
-        let r = Fields::open(v, path, &["at", "amount", "extent"])?;
-        let amount = r.required("amount", r.number("amount"))?;
-        Ok(StarchJson { at: r.point("at")?, amount, extent: r.required("extent", r.number("extent"))? })
-    })?;
-    let overlap = f.list("overlap", |v, path| {
-        let r = Fields::open(v, path, &["at", "depth", "extent"])?;
-        let depth = r.required("depth", r.number("depth"))?;
-        Ok(OverlapJson { at: r.point("at")?, depth, extent: r.required("extent", r.number("extent"))? })
-    })?;
-    let blend = match sub("blend") {
-        None => None,
-        Some(v) => Some(BlendJson {
-            iterations: Fields::open(&v, "blend".into(), &["iterations"])?.whole("iterations")?,
-        }),
-    };
-    let poses = f.list("poses", |v, path| {
-        let p = Fields::open(v, path, &["positions", "nearAngle", "nearPose", "flipped"])?;
-        Ok(PoseJson {
-            positions: p.required("positions", p.numbers("positions"))?,
-            near_angle: p.number("nearAngle")?,
-            near_pose: p.whole("nearPose")?,
-            flipped: p.string("flipped")?,
-        })
-    })?;
-    let track = sub("track").map(|v| read_track(&v, "track".into())).transpose()?;
-    let weights = match sub("weights") {
-        None => None,
-        Some(v) => {
-            let w = Fields::open(&v, "weights".into(), &["times", "values"])?;
-            Some(WeightsJson {
-                times: w.required("times", w.numbers("times"))?,
-                values: w.required("values", w.numbers("values"))?,
-            })
-        }
-    };
-    Ok(Document {
-        format: animation::FORMAT.into(),
-        version: f.number("version")?.map_or(animation::VERSION, |v| v as u32),
-        picture,
-        meshing,
-        mesh,
-        simulation,
-        puppet,
-        pins,
-        starch,
-        overlap,
-        blend,
-        poses,
-        track,
-        weights,
-        play: f.string("play")?,
-        looping: f.boolean("loop")?,
-        duration: f.number("duration")?,
-    })
-}
-
-/// A track's JSON data at `path`.
-fn read_track(value: &JsValue, path: String) -> Result<TrackJson, Thrown> {
-    let t = Fields::open(value, path, &["pins", "kinds", "times", "targets", "rotations"])?;
-    Ok(TrackJson {
-        pins: t.required("pins", t.whole("pins"))? as usize,
-        kinds: t.strings("kinds")?,
-        times: t.required("times", t.numbers("times"))?,
-        targets: t.required("targets", t.numbers("targets"))?,
-        rotations: t.numbers("rotations")?,
-    })
+    js_sys::JSON::stringify(&value)
+        .ok()
+        .and_then(|text| text.as_string())
+        .ok_or_else(|| bad("", "could not be read as JSON (it nests too deep or holds a cycle)".into()))
 }
 
 /// Numbers as a plain JS array (what `JSON.stringify` writes as a list).

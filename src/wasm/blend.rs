@@ -105,6 +105,8 @@ impl JsBlender {
         }
         let mut points = items::<Float64Array, 2>("positions", &positions)?;
         if let Some((_, twins)) = &self.embedding {
+            // Every rendered position is checked, not only those read (the twins).
+            crate::error::check_coordinates("positions", &points)?;
             // The pose of the simulation mesh: the rendered vertices on its vertices.
             points = twins.iter().map(|&v| points[v as usize]).collect();
         }

@@ -26,7 +26,8 @@ export type ErrorCode =
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
   | "point-outside" | "overlapping-pins"
-  | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation";
+  | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation"
+  | "freed" | "not-initialized" | "unreadable";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -46,11 +47,14 @@ export interface BunrakuError extends Error {
   /** `non-finite`, `too-large`: the offending number; `bad-option`: the offending value (a number
    *  from a range check, or whatever was given for an option of the wrong type or name). */
   value?: unknown;
-  /** `too-large`: the largest magnitude allowed. */
+  /** `too-large`: the largest magnitude allowed (for an argument nested too deep or holding
+   *  too many values: the nesting or size limit, with `field` its path). */
   limit?: number;
   /** `bad-option`: the option, as JS spells it (`minAngle`, `handleWeight`). */
   option?: string;
-  /** `bad-type`: the argument or option that has the wrong type (`targets`, `holes[1]`). */
+  /** `bad-type`: the argument or option that has the wrong type (`targets`, `holes[1]`);
+   *  `unreadable`: the argument whose reading threw (its exception is `cause`); `freed`:
+   *  `"the object"` or the argument that was freed. */
   argument?: string;
   /** `bad-type`: the type it has (`Array`, `number`, `undefined`). */
   type?: string;
@@ -187,6 +191,7 @@ impl From<Error> for Thrown {
             Error::TooLarge { index, flat, value, limit, .. } => {
                 t.with("index", flat).with("item", index).with("value", value).with("limit", limit)
             }
+            Error::TooMany { count, limit, .. } => t.with("value", count).with("limit", limit),
             Error::IndexOutOfRange { triangle, index, vertex_count } => {
                 t.with("triangle", triangle).with("vertex", index).with("vertexCount", vertex_count)
             }

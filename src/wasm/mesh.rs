@@ -75,10 +75,11 @@ impl JsMesh {
     #[wasm_bindgen(js_name = fromImage)]
     pub fn from_image(
         #[wasm_bindgen(unchecked_param_type = "Uint8Array | Uint8ClampedArray")] rgba: JsValue,
-        width: u32,
-        height: u32,
+        #[wasm_bindgen(unchecked_param_type = "number")] width: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] height: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "ImageOptions")] options: JsValue,
     ) -> Result<JsMesh, Thrown> {
+        let (width, height) = (super::pixels("width", &width)?, super::pixels("height", &height)?);
         let bytes = rgba_bytes(&rgba)?;
         let options = image_options(&options)?;
         Ok(JsMesh { shape: mesh_image(&bytes, width, height, &options)? })

@@ -47,20 +47,27 @@ use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedAr
 use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen::{JsCast, JsValue};
 
-#[wasm_bindgen]
-extern "C" {
-    /// `performance.now()`: milliseconds, monotonic, sub-millisecond. Browsers, workers and
-    /// Node all have it (`Date.now()` is too coarse for a budget of a few milliseconds).
-    /// One import, rather than web-sys's `Performance` binding and the crate it needs.
-    #[wasm_bindgen(js_namespace = performance, js_name = now)]
-    fn performance_now() -> f64;
+thread_local! {
+    /// The host's `performance` (browsers, workers and Node all have one as a global),
+    /// read once: `Date.now()` is too coarse for a budget of a few milliseconds.
+    static PERFORMANCE: Option<web_sys::Performance> = js_sys::Reflect::get(&js_sys::global(), &"performance".into())
+        .ok()
+        .and_then(|p| p.dyn_into::<web_sys::Performance>().ok());
+}
+
+/// `performance.now()`: milliseconds, monotonic, sub-millisecond.
+fn performance_now() -> f64 {
+    PERFORMANCE.with(|p| p.as_ref().map_or(0.0, web_sys::Performance::now))
 }
 
 /// Runs when the module is instantiated: installs the clock the injective method's time
-/// budget reads ([`crate::deform::clock`]).
+/// budget reads ([`crate::deform::clock`]), when the host has one (without, the budget
+/// counts work instead of time).
 #[wasm_bindgen(start)]
 fn start() {
-    crate::deform::set_clock(performance_now);
+    if PERFORMANCE.with(Option::is_some) {
+        crate::deform::set_clock(performance_now);
+    }
 }
 
 use crate::Error;
@@ -162,6 +169,19 @@ pub(crate) fn rgba_bytes(rgba: &JsValue) -> Result<Vec<u8>, Thrown> {
     } else {
         Err(bad_type("rgba", "a Uint8Array or a Uint8ClampedArray", rgba))
     }
+}
+
+/// A size in pixels (`width`, `height`): a whole number in `0..=2³² − 1`, never rounded or
+/// wrapped (wasm-bindgen's `u32` parameters turn 1.5 into 1 and −1 into 4294967295). The
+/// core then checks the size itself (`bad-size`, `bad-picture`). Errors: `bad-type` for
+/// a value that is not a number, `bad-option` for one that is not a whole number ≥ 0.
+pub(crate) fn pixels(argument: &str, value: &JsValue) -> Result<u32, Thrown> {
+    let x = value.as_f64().ok_or_else(|| bad_type(argument, "a number", value))?;
+    if x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64 {
+        return Ok(x as u32);
+    }
+    let reason = format!("{} is not a whole number of pixels", errors::number(x));
+    Err(errors::bad_option(argument, value, &reason))
 }
 
 /// A string argument (OBJ text), or a `bad-type` error naming `argument`.

@@ -37,7 +37,8 @@ export interface CompileOptions {
 export interface StarchRegion {
   /** The centre, a rest-space point on the shape: `[x, y]`. */
   at: ArrayLike<number>;
-  /** How much stiffer: 1 makes the edges within the extent a hundred times stiffer. */
+  /** How much stiffer, within ±100: 1 makes the edges within the extent a hundred times
+   *  stiffer (summed amounts are held to 10⁴ times stiffer and 100 times softer). */
   amount: number;
   /** How far the region reaches, measured along the mesh, in rest units (> 0). */
   extent: number;
@@ -48,7 +49,8 @@ export interface StarchRegion {
 export interface OverlapRegion {
   /** The centre, a rest-space point on the shape: `[x, y]`. */
   at: ArrayLike<number>;
-  /** Larger is nearer the viewer: drawn in front where the deformed mesh overlaps itself. */
+  /** Larger is nearer the viewer: drawn in front where the deformed mesh overlaps itself.
+   *  Within ±10⁶. */
   depth: number;
   /** How far the region reaches, measured along the mesh, in rest units (> 0). */
   extent: number;
@@ -101,8 +103,10 @@ pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<(Vec<Pin>,
             Err(bad_option(&name, &r.into(), &reason).with("index", i))
         };
         if let Some(r) = v.as_f64() {
-            for (i, pin) in pins.iter_mut().enumerate() {
-                pin.radius = radius(i, r)?;
+            // Checked once, so that a bad radius is an error without pins too.
+            let r = radius(0, r)?;
+            for pin in &mut pins {
+                pin.radius = r;
             }
         } else if let Some(a) = v.dyn_ref::<Float64Array>() {
             let len = a.len();
@@ -159,8 +163,9 @@ fn region(list: &str, i: usize, value: &JsValue, amount: &str) -> Result<([f64; 
     };
     let value = number_field(amount)?;
     let extent = number_field("extent")?;
-    if !value.is_finite() {
-        let reason = format!("{} is not finite", number(value));
+    let limit = if amount == "amount" { crate::deform::MAX_AMOUNT } else { crate::deform::MAX_DEPTH };
+    if value.is_nan() || value.abs() > limit {
+        let reason = format!("{} is not a number within ±{}", number(value), number(limit));
         return Err(bad_option(&format!("{item}.{amount}"), &value.into(), &reason).with("index", i));
     }
     if !(extent.is_finite() && extent > 0.0) {
@@ -194,6 +199,10 @@ fn regions<T>(
     read: impl Fn(usize, &JsValue) -> Result<T, Thrown>,
 ) -> Result<Vec<T>, Thrown> {
     let array = value.dyn_ref::<Array>().ok_or_else(|| bad_type(list, "an array", value))?;
+    let (count, limit) = (array.length() as usize, crate::deform::MAX_REGIONS);
+    if count > limit {
+        return Err(Error::TooMany { what: "regions", count: count as f64, estimated: false, limit }.into());
+    }
     array.iter().enumerate().map(|(i, v)| read(i, &v)).collect()
 }
 

@@ -6,7 +6,7 @@ use wasm_bindgen::prelude::*;
 
 use super::errors::bad_type;
 use super::options::{render_options, RenderBuffers};
-use super::{read_items, rgba_bytes, typed, Thrown};
+use super::{pixels, read_items, rgba_bytes, typed, Thrown};
 use crate::render::Renderer;
 use crate::Error;
 
@@ -40,9 +40,10 @@ impl JsRenderer {
     #[wasm_bindgen(constructor)]
     pub fn new(
         #[wasm_bindgen(unchecked_param_type = "Uint8Array | Uint8ClampedArray")] rgba: JsValue,
-        width: u32,
-        height: u32,
+        #[wasm_bindgen(unchecked_param_type = "number")] width: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] height: JsValue,
     ) -> Result<JsRenderer, Thrown> {
+        let (width, height) = (pixels("width", &width)?, pixels("height", &height)?);
         let core = Renderer::from_vec(rgba_bytes(&rgba)?, width, height)?;
         Ok(JsRenderer {
             core,
@@ -71,10 +72,11 @@ impl JsRenderer {
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Float32Array")] uvs: JsValue,
-        width: u32,
-        height: u32,
+        #[wasm_bindgen(unchecked_param_type = "number")] width: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] height: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "RenderOptions")] options: JsValue,
     ) -> Result<Uint8ClampedArray, Thrown> {
+        let (width, height) = (pixels("width", &width)?, pixels("height", &height)?);
         self.draw(&positions, &triangles, &uvs, width, height, &options)?;
         Ok(Uint8ClampedArray::from(&self.frame[..]))
     }
@@ -92,10 +94,11 @@ impl JsRenderer {
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Float32Array")] uvs: JsValue,
-        width: u32,
-        height: u32,
+        #[wasm_bindgen(unchecked_param_type = "number")] width: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] height: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "RenderOptions")] options: JsValue,
     ) -> Result<(), Thrown> {
+        let (width, height) = (pixels("width", &width)?, pixels("height", &height)?);
         let expected = width as u64 * height as u64 * 4;
         let (got, clamped) = if let Some(a) = out.dyn_ref::<Uint8ClampedArray>() {
             (a.length(), Some(a))

@@ -29,8 +29,9 @@ after(async () => {
 });
 
 /** Runs `check(page)` on a blank page at ORIGIN with `body`, dist/gl.js at /gl.js (the
- *  module is `window.gl`) and PAGE_HELPERS, in a context of `deviceScaleFactor`; then
- *  asserts that the page reported no error, and closes it. */
+ *  module is `window.gl`; the modules it imports, dist/gl/*.js, at /gl/) and PAGE_HELPERS,
+ *  in a context of `deviceScaleFactor`; then asserts that the page reported no error, and
+ *  closes it. */
 async function inPage(body, check, deviceScaleFactor = 1) {
   const context = await browser.newContext({ viewport: { width: 600, height: 400 }, deviceScaleFactor });
   try {
@@ -38,7 +39,7 @@ async function inPage(body, check, deviceScaleFactor = 1) {
     context.on("weberror", (e) => errors.push(String(e.error())));
     await context.route(`${ORIGIN}/**`, (route) => {
       const path = new URL(route.request().url()).pathname;
-      if (path === "/gl.js") return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${GL_DIST}/gl.js`, "utf8") });
+      if (path === "/gl.js" || /^\/gl\/\w+\.js$/.test(path)) return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${GL_DIST}${path}`, "utf8") });
       return route.fulfill({ contentType: "text/html", body: `<!doctype html><body style="margin:0">${body}<script type="module">window.gl = await import("/gl.js");</script>` });
     });
     await context.addInitScript(PAGE_HELPERS);

@@ -198,7 +198,7 @@ test("bad input is a named error and leaves the blender as it was", () => {
   throws(() => b.addPose(mirror), "flipped-triangles", { count: 32, triangle: 0 }, /32 triangles are flipped/);
   throws(() => b.addPose([...v]), "bad-type", { argument: "positions", type: "Array" });
   throws(() => b.addPose(v, { flipped: "maybe" }), "bad-option", { option: "flipped" });
-  throws(() => b.addPose(v, { nearAngle: NaN }), "bad-option", { option: "nearAngle" }, /^option nearAngle: NaN is not a finite angle$/);
+  throws(() => b.addPose(v, { nearAngle: NaN }), "bad-option", { option: "nearAngle" }, /^option nearAngle: NaN is not an angle within ±10⁶ radians$/);
   throws(() => b.addPose(v, { nearPose: 5 }), "bad-pose", { index: 5, poseCount: 2 }, /^pose 5 does not exist \(there are 2 poses\)$/);
   throws(() => b.addPose(v, { nearpose: 0 }), "bad-option", { option: "nearpose" });
   unchanged();

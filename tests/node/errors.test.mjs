@@ -5,7 +5,8 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Blender, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "../../pkg/bunraku.js";
+import { spawnSync } from "node:child_process";
+import { initSync, Blender, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "bunraku";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -366,6 +367,36 @@ code("bad-document", () => {
 
 code("bad-version", () => {
   throws(() => Player.load({ ...stillDocument(), version: 3 }), "bad-version", { field: "version", value: 3 }, /^puppet document: version: 3 is not a version this library reads \(it reads versions 1 and 2\)$/);
+});
+
+code("freed", () => {
+  const { puppet } = posed();
+  puppet.free();
+  throws(() => puppet.update(new Float64Array(4)), "freed", { argument: "the object" }, /^Puppet\.update: the object was freed/);
+  throws(() => puppet.vertexCount, "freed", {}, /^Puppet\.vertexCount: /);
+  puppet.free(); // again: nothing happens
+  const mesh = Mesh.fromOutline(new Float64Array([0, 0, 4, 0, 4, 4, 0, 4]));
+  mesh.free();
+  throws(() => Puppet.fromMesh(mesh), "freed", { argument: "mesh" }, /^Puppet\.fromMesh: mesh was freed/);
+});
+
+code("not-initialized", () => {
+  // A process of its own: this one is initialised.
+  const script = `import { Puppet } from "bunraku";
+    try { Puppet.register(new Float64Array(6), new Uint32Array([0, 1, 2])); } catch (e) { console.log(JSON.stringify([e.code, e.message, e instanceof Error])); }`;
+  const run = spawnSync(process.execPath, ["--input-type=module", "-e", script], { cwd: new URL(".", import.meta.url), encoding: "utf8" });
+  const [c, message, isError] = JSON.parse(run.stdout);
+  assert.deepEqual([c, isError], ["not-initialized", true]);
+  assert.match(message, /^Puppet\.register: bunraku is not initialised yet: await init\(\) \(or call initSync\(\)\)/);
+});
+
+code("unreadable", () => {
+  const { puppet, unchanged } = posed();
+  const options = Object.defineProperty({}, "kinds", { enumerable: true, get() { throw new RangeError("no"); } });
+  const e = throws(() => puppet.compile(new Float64Array([0.5, 0.5]), options), "unreadable", { argument: "options" }, /^Puppet\.compile: options could not be read \(no\)$/);
+  assert.ok(e.cause instanceof RangeError);
+  unchanged();
+  puppet.free();
 });
 
 test("every ErrorCode of the declarations is tested above (or cannot be triggered)", () => {

@@ -149,9 +149,9 @@ test("bad method options each throw a named error and leave the puppet as it was
     [{ maxSolves: 2.5 }, "maxSolves", 2.5, /^option maxSolves: 2\.5 is not a whole number ≥ 0$/],
     [{ method: "nonlinear", iterations: 2.5 }, "iterations", 2.5, /^option iterations: 2\.5 is not a whole number ≥ 0$/],
     [{ method: "nonlinear", iterations: -1 }, "iterations", -1, /whole number/],
-    [{ regularization: 1 }, "regularization", 1, /applies to the two-step and nonlinear methods only/],
+    [{ regularization: 1 }, "regularization", 1, /is an option of the "two-step" and "nonlinear" methods, not of "injective"/],
     [{ preserveArea: "yes" }, "preserveArea", "yes", /preserveArea/],
-    [{ termWeights: { meanValue: -1 } }, "termWeights.meanValue", -1, /^option termWeights\.meanValue: -1 /],
+    [{ method: "nonlinear", termWeights: { meanValue: -1 } }, "termWeights.meanValue", -1, /^option termWeights\.meanValue: -1 /],
   ];
   for (const [options, option, value, message] of bad) {
     assert.throws(

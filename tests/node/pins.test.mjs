@@ -53,7 +53,7 @@ test("an advanced pin turned 90° turns the end of a 4:1 bar by 90° ± 2°; a p
   const handles = new Float64Array([0.5, 2, w - 0.5, 2]);
   const targets = new Float64Array([0.5, 2, w - 3, 6]);
   for (const method of METHODS) {
-    const p = Puppet.register(b.vertices, b.triangles, { method, maxSolves: 60 });
+    const p = Puppet.register(b.vertices, b.triangles, method === "injective" ? { method, maxSolves: 60 } : { method });
     const radius = new Float64Array([0, 1.5]);
     p.compile(handles, { kinds: ["advanced", "advanced"], radius });
     const turned = settle(p, targets, new Float64Array([0, 1, Math.PI / 2, 1]));

@@ -9,7 +9,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { spawnSync } from "node:child_process";
-import { mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
+import { mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
@@ -103,8 +103,10 @@ test("tests/types/api.ts type-checks (the declarations' own checks)", () => {
   assert.equal(mine.length, 0, "\n" + mine.map((e) => `tests/types/api.ts:${e.line}:${e.column}: ${e.text}`).join("\n"));
 });
 
-test("no `any` in a public signature of bunraku.d.ts and gl.d.ts", () => {
-  for (const file of ["pkg/bunraku.d.ts", "dist/gl.d.ts"]) {
+test("no `any` in a public signature of the package's declarations", () => {
+  const gl = readdirSync(join(root, "dist/gl")).filter((f) => f.endsWith(".d.ts")).map((f) => `dist/gl/${f}`);
+  assert.ok(gl.length > 0, "dist/gl/*.d.ts");
+  for (const file of ["pkg/bunraku.d.ts", "dist/index.d.ts", "dist/gl.d.ts", ...gl]) {
     const dts = readFileSync(join(root, file), "utf8");
     // InitOutput lists the raw wasm exports (wasm-bindgen's, not the API); comments may say "any".
     const api = dts.replace(/export interface InitOutput \{[^}]*\}/, "").replace(/\/\*[\s\S]*?\*\//g, "");

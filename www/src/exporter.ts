@@ -5,7 +5,11 @@
 // first time (the worker has its own instance; the Canvas 2D fallback may have loaded it
 // already).
 
-import init, { Renderer, type Overlays } from "../../pkg/bunraku.js";
+import init, { Renderer, type Overlays } from "../../js/index.js";
+import type { StarchRegion } from "./protocol.js";
+import { starchPerTriangle, type Placed } from "./regions.js";
+import { hasDepth } from "./renderer.js";
+import type { Rig } from "./rig.js";
 import type { Affine } from "./view.js";
 
 /** One frame to export: the mesh as drawn, and what goes over it. */
@@ -19,6 +23,40 @@ export interface ExportFrame {
   readonly transform: Affine;
   readonly depth: Float32Array | null;
   readonly overlays: Overlays;
+}
+
+/** The frame of `rig` as the stage shows it (`width` × `height` device pixels, `dpr` of
+ *  them per CSS pixel, through `transform`), with the pins (when `show.pins`), the wireframe
+ *  (when `show.wireframe`), the `starch` regions and the overlap depths over it. */
+export function rigFrame(
+  rig: Rig,
+  starch: readonly Placed<StarchRegion>[],
+  stage: { readonly width: number; readonly height: number; readonly dpr: number; readonly transform: Affine },
+  show: { readonly wireframe: boolean; readonly pins: boolean },
+): ExportFrame {
+  const pins = rig.pins;
+  const material = Float64Array.from(pins.flatMap((p) => rig.materialOf(p.id) ?? p.target));
+  // A bend pin has no target of its own: no lag line.
+  const targets = Float64Array.from(pins.flatMap((p, k) => (p.kind === "bend" ? [material[2 * k], material[2 * k + 1]] : p.target)));
+  const depth = hasDepth(rig.depth) ? rig.depth : null;
+  return {
+    picture: rig.picture.pixels,
+    positions: rig.positions,
+    triangles: rig.triangles,
+    uvs: rig.uvs,
+    width: stage.width,
+    height: stage.height,
+    transform: stage.transform,
+    depth,
+    overlays: {
+      ...(show.pins && pins.length > 0
+        ? { pins: { positions: material, kinds: pins.map((p) => p.kind), angles: Float64Array.from(pins, (p) => p.angle), targets, size: 4 * stage.dpr } }
+        : {}),
+      wireframe: show.wireframe,
+      ...(starch.length > 0 ? { starch: starchPerTriangle(rig.rest, rig.triangles, rig.edges, starch) } : {}),
+      depth: depth !== null,
+    },
+  };
 }
 
 let renderer: { picture: ImageData; renderer: Renderer } | null = null;

@@ -2,7 +2,7 @@
 // scan converter, in wasm on this thread) rasterises the textured mesh into a reused RGBA
 // buffer, which is put on the canvas; overlap depths go to it as `options.depth`.
 
-import init, { Renderer } from "../../pkg/bunraku.js";
+import init, { Renderer } from "../../js/index.js";
 import { hasDepth, type PictureRenderer } from "./renderer.js";
 import type { Affine } from "./view.js";
 

@@ -53,7 +53,7 @@ async function main(status: Status): Promise<void> {
   });
   const theApp = app;
   // What a reload kept of the form.
-  theApp.pinKind = PIN_KINDS.find((k) => k === pinKind.value) ?? "position";
+  theApp.board.pinKind = PIN_KINDS.find((k) => k === pinKind.value) ?? "position";
   // ?simulation=1 shows the simulation mesh from the start.
   if (query.get("simulation") === "1") simulation.checked = true;
   theApp.showSimulation(simulation.checked);
@@ -65,7 +65,7 @@ async function main(status: Status): Promise<void> {
   measure();
   new ResizeObserver(measure).observe(wrap);
 
-  attachPointer(stage, theApp);
+  attachPointer(stage, theApp.board);
   const controls = attachControls(
     {
       file: element("file", HTMLInputElement),
@@ -95,10 +95,10 @@ async function main(status: Status): Promise<void> {
       },
       setDensity: (n) => theApp.setDensity(n),
       setMethod: (m) => theApp.setMethod(m),
-      setPinKind: (kind) => (theApp.pinKind = kind),
-      setTool: (tool) => theApp.setTool(tool),
-      setAmount: (kind, value) => (theApp.amounts[kind] = value),
-      clearRegions: () => theApp.clearRegions(),
+      setPinKind: (kind) => (theApp.board.pinKind = kind),
+      setTool: (tool) => theApp.board.setTool(tool),
+      setAmount: (kind, value) => (theApp.board.amounts[kind] = value),
+      clearRegions: () => theApp.board.clearRegions(),
       showWireframe: (on) => theApp.showWireframe(on),
       showSimulation: (on) => theApp.showSimulation(on),
       showPins: (on) => theApp.showPins(on),

@@ -5,7 +5,7 @@
 // mesh's vertices are rendered vertices too (each at a corner of its parents), so a
 // rendered pose gives the simulation pose exactly, vertex by vertex.
 
-import type { PuppetDocument, SimulationMesh } from "../../pkg/bunraku.js";
+import type { PuppetDocument, SimulationMesh } from "../../js/index.js";
 
 /** A barycentric weight this close to 1 puts a rendered vertex on its parent's corner. */
 const ON_CORNER = 1e-9;

@@ -1,0 +1,280 @@
+// `MeshPainter`: the WebGL2 drawing of a textured mesh on a canvas whose drawing buffer the
+// caller sizes, with the context and its GPU resources (made again after a lost context).
+
+import type { Affine } from "./affine.js";
+import { depthOrder, hasDepth } from "./depth.js";
+import { PuppetViewError } from "./error.js";
+import { isImage, isImageBitmap, pictureSize, premultipliedCopy, type PictureSource } from "./picture.js";
+import { compile, FRAGMENT_SHADER, link, POSITION, UV, VERTEX_SHADER } from "./shaders.js";
+
+/** Device pixels per picture pixel below which the texture is sampled from mipmaps. */
+const MIPMAP_BELOW = 0.75;
+
+/** The context: alpha premultiplied, as the texture is; no depth or stencil buffer, no
+ *  multisampling (edges come from the texture's alpha, not from the triangles). */
+const CONTEXT_ATTRIBUTES: WebGLContextAttributes = {
+  alpha: true,
+  premultipliedAlpha: true,
+  antialias: false,
+  depth: false,
+  stencil: false,
+  preserveDrawingBuffer: false,
+};
+
+/** What `MeshPainter` takes besides the canvas. */
+export interface MeshPainterOptions {
+  /** Told `true` when the GPU context is lost and `false` once it is back (the painter has
+   *  then made its resources again and uploaded the picture and the mesh): draw again then. */
+  onContextLost?: (lost: boolean) => void;
+}
+
+interface Resources {
+  program: WebGLProgram;
+  toClip: WebGLUniformLocation;
+  texture: WebGLTexture;
+  vao: WebGLVertexArrayObject;
+  positions: WebGLBuffer;
+  uvs: WebGLBuffer;
+  indices: WebGLBuffer;
+}
+
+type Canvas = HTMLCanvasElement | OffscreenCanvas;
+
+/**
+ * The WebGL2 drawing of a textured mesh on a canvas whose drawing buffer you size: set the
+ * picture and the mesh once, then `draw(positions, transform)` every frame with a transform
+ * from mesh units to the canvas's pixels. Survives a lost GPU context (it makes its
+ * resources again when the context is restored). `PuppetView` is the same with the sizing
+ * done for you.
+ */
+export class MeshPainter {
+  /** The canvas drawn on. */
+  readonly canvas: Canvas;
+  private readonly gl: WebGL2RenderingContext;
+  private res: Resources | null;
+  private disposed = false;
+  private picture: TexImageSource | null = null;
+  private triangles: Uint32Array = new Uint32Array(0);
+  private uvs: Float32Array = new Float32Array(0);
+  private depth: Float32Array | null = null;
+  private scratch = new Float32Array(0); // positions as float32, reused every frame
+  private readonly toClip = new Float32Array(9);
+  private mipmapped = false; // the texture's minification filter uses mipmaps
+  private readonly onLost: (e: Event) => void;
+  private readonly onRestored: () => void;
+
+  /** Takes the canvas's WebGL2 context (throws `no-webgl2` when there is none). */
+  constructor(canvas: Canvas, options: MeshPainterOptions = {}) {
+    const gl = canvas.getContext("webgl2", CONTEXT_ATTRIBUTES) as WebGL2RenderingContext | null;
+    if (!gl) throw new PuppetViewError("no-webgl2", "this canvas gives no WebGL2 context");
+    this.canvas = canvas;
+    this.gl = gl;
+    this.res = gl.isContextLost() ? null : this.createResources();
+    const told = options.onContextLost;
+    this.onLost = (e) => {
+      e.preventDefault(); // ask for a restore
+      this.res = null;
+      told?.(true);
+    };
+    this.onRestored = () => {
+      if (this.disposed) return;
+      this.res = this.createResources();
+      this.uploadPicture();
+      this.uploadMesh();
+      told?.(false);
+    };
+    canvas.addEventListener("webglcontextlost", this.onLost);
+    canvas.addEventListener("webglcontextrestored", this.onRestored);
+  }
+
+  /** Whether the GPU context is lost (draws draw nothing until it is restored). */
+  get contextLost(): boolean {
+    return this.res === null || this.gl.isContextLost();
+  }
+
+  /** The picture to texture the mesh with (`PictureSource`). Throws `bad-picture`. */
+  setPicture(picture: PictureSource): void {
+    this.alive();
+    const [width, height] = pictureSize(picture);
+    if (!(width > 0 && height > 0)) {
+      const hint = isImage(picture) ? " (not decoded yet? await image.decode() first)" : "";
+      throw new PuppetViewError("bad-picture", `the picture is ${width} × ${height} pixels${hint}`);
+    }
+    const max = this.res ? (this.gl.getParameter(this.gl.MAX_TEXTURE_SIZE) as number) : Infinity;
+    if (width > max || height > max) {
+      throw new PuppetViewError("bad-picture", `the picture is ${width} × ${height} pixels, larger than this GPU's largest texture (${max} pixels a side)`);
+    }
+    this.picture = isImageBitmap(picture) ? premultipliedCopy(picture) : picture;
+    this.uploadPicture();
+  }
+
+  /** The mesh: `triangles` `[a0, b0, c0, …]` and one `[u, v]` per vertex (0..1, v down; a
+   *  `Mesh`'s or `Player`'s `uvs`). Clears the depths (`setDepth` after it). Throws
+   *  `bad-mesh`. */
+  setMesh(triangles: Uint32Array, uvs: Float32Array): void {
+    this.alive();
+    if (triangles.length % 3 !== 0) throw new PuppetViewError("bad-mesh", `triangles: length ${triangles.length} is not a multiple of 3`);
+    if (uvs.length % 2 !== 0) throw new PuppetViewError("bad-mesh", `uvs: length ${uvs.length} is not a multiple of 2`);
+    const n = uvs.length / 2;
+    for (let k = 0; k < triangles.length; k++) {
+      if (triangles[k] >= n) {
+        throw new PuppetViewError("bad-mesh", `triangle ${Math.floor(k / 3)} refers to vertex ${triangles[k]}, but there are only ${n} vertices`);
+      }
+    }
+    this.triangles = triangles;
+    this.uvs = uvs;
+    this.depth = null;
+    if (this.scratch.length !== uvs.length) this.scratch = new Float32Array(uvs.length);
+    this.uploadMesh();
+  }
+
+  /** The triangles' depths (`player.triangleDepth`, `puppet.triangleDepth`: one each), or
+   *  null for none: where the mesh overlaps itself, larger depths are drawn in front; equal
+   *  depths (and no depths at all) in triangle order, the later one in front. Throws
+   *  `bad-length`. */
+  setDepth(depth: Float32Array | null): void {
+    this.alive();
+    const m = this.triangles.length / 3;
+    if (depth && depth.length !== m) throw new PuppetViewError("bad-length", `depth: got ${depth.length}, expected ${m} (one per triangle)`);
+    this.depth = hasDepth(depth) ? depth : null;
+    this.uploadIndices();
+  }
+
+  /**
+   * Draws the mesh at `positions` (`[x0, y0, …]`, mesh units, one pair per vertex) mapped
+   * by `transform` to the canvas's pixels (its drawing buffer, `canvas.width` ×
+   * `canvas.height`), over a transparent background. Returns whether it drew: not while
+   * the GPU context is lost. Throws `bad-length`, `disposed`.
+   */
+  draw(positions: Float64Array | Float32Array, [a, b, c, d, e, f]: Affine): boolean {
+    this.alive();
+    const { gl, res, scratch } = this;
+    if (!res || gl.isContextLost()) return false;
+    if (positions.length !== scratch.length) {
+      throw new PuppetViewError("bad-length", `positions: got ${positions.length}, expected ${scratch.length} (two per vertex)`);
+    }
+    gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    if (this.triangles.length === 0 || !this.picture) return true;
+    // Canvas pixels (y down) → clip space (y up), composed with the transform; column-major.
+    const sx = 2 / this.canvas.width, sy = -2 / this.canvas.height;
+    const m = this.toClip;
+    m[0] = a * sx; m[1] = b * sy; m[2] = 0;
+    m[3] = c * sx; m[4] = d * sy; m[5] = 0;
+    m[6] = e * sx - 1; m[7] = f * sy + 1; m[8] = 1;
+
+    gl.useProgram(res.program);
+    gl.uniformMatrix3fv(res.toClip, false, m);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, res.texture);
+    // Trilinear filtering only where bilinear would alias: it costs a software renderer
+    // (SwiftShader) enough to miss frames. The scale is the drawing buffer's, which the
+    // browser may have made smaller than the canvas asked for.
+    const buffer = Math.sqrt((gl.drawingBufferWidth * gl.drawingBufferHeight) / (this.canvas.width * this.canvas.height));
+    const mipmapped = buffer * Math.sqrt(Math.abs(a * d - b * c)) < MIPMAP_BELOW;
+    if (mipmapped !== this.mipmapped) {
+      this.mipmapped = mipmapped;
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, mipmapped ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
+    }
+    let data: Float32Array = scratch;
+    if (positions instanceof Float32Array) data = positions;
+    else for (let k = 0; k < scratch.length; k++) scratch[k] = positions[k];
+    gl.bindVertexArray(res.vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, res.positions);
+    gl.bufferSubData(gl.ARRAY_BUFFER, 0, data);
+    gl.enable(gl.BLEND);
+    gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA); // premultiplied "over"
+    gl.drawElements(gl.TRIANGLES, this.triangles.length, gl.UNSIGNED_INT, 0);
+    gl.bindVertexArray(null);
+    return true;
+  }
+
+  /** Releases the GPU resources and stops listening to the canvas; the painter cannot be
+   *  used again (calls throw `disposed`). The canvas keeps its context. */
+  dispose(): void {
+    if (this.disposed) return;
+    this.disposed = true;
+    this.canvas.removeEventListener("webglcontextlost", this.onLost);
+    this.canvas.removeEventListener("webglcontextrestored", this.onRestored);
+    const { gl, res } = this;
+    this.res = null;
+    this.picture = null;
+    if (!res || gl.isContextLost()) return;
+    gl.deleteProgram(res.program);
+    gl.deleteTexture(res.texture);
+    gl.deleteVertexArray(res.vao);
+    for (const b of [res.positions, res.uvs, res.indices]) gl.deleteBuffer(b);
+  }
+
+  private alive(): void {
+    if (this.disposed) throw new PuppetViewError("disposed", "this painter was disposed");
+  }
+
+  private uploadPicture(): void {
+    const { gl, res, picture } = this;
+    if (!res || !picture) return;
+    gl.bindTexture(gl.TEXTURE_2D, res.texture);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, true);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, picture);
+    // Mipmaps of premultiplied texels average correctly, so a picture drawn small stays
+    // smooth; `draw` only samples them when the picture is drawn well below its size.
+    gl.generateMipmap(gl.TEXTURE_2D);
+    this.mipmapped = false;
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+  }
+
+  private uploadMesh(): void {
+    const { gl, res } = this;
+    if (!res) return;
+    gl.bindVertexArray(res.vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, res.positions);
+    gl.bufferData(gl.ARRAY_BUFFER, this.scratch.byteLength, gl.DYNAMIC_DRAW);
+    gl.bindBuffer(gl.ARRAY_BUFFER, res.uvs);
+    gl.bufferData(gl.ARRAY_BUFFER, this.uvs, gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+    this.uploadIndices();
+  }
+
+  /** The triangles in drawing order (by depth when there are depths). */
+  private uploadIndices(): void {
+    const { gl, res } = this;
+    if (!res) return;
+    gl.bindVertexArray(res.vao);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, res.indices);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, this.depth ? depthOrder(this.triangles, this.depth) : this.triangles, gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+  }
+
+  private createResources(): Resources {
+    const { gl } = this;
+    const program = link(gl, compile(gl, gl.VERTEX_SHADER, VERTEX_SHADER), compile(gl, gl.FRAGMENT_SHADER, FRAGMENT_SHADER));
+    const toClip = gl.getUniformLocation(program, "u_toClip");
+    const picture = gl.getUniformLocation(program, "u_picture");
+    const texture = gl.createTexture();
+    const vao = gl.createVertexArray();
+    const positions = gl.createBuffer();
+    const uvs = gl.createBuffer();
+    const indices = gl.createBuffer();
+    if (!toClip || !picture || !texture || !vao || !positions || !uvs || !indices) {
+      throw new PuppetViewError("webgl", "WebGL2 could not create the painter's resources");
+    }
+    gl.useProgram(program);
+    gl.uniform1i(picture, 0);
+    gl.bindVertexArray(vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, positions);
+    gl.enableVertexAttribArray(POSITION);
+    gl.vertexAttribPointer(POSITION, 2, gl.FLOAT, false, 0, 0);
+    gl.bindBuffer(gl.ARRAY_BUFFER, uvs);
+    gl.enableVertexAttribArray(UV);
+    gl.vertexAttribPointer(UV, 2, gl.FLOAT, false, 0, 0);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indices);
+    gl.bindVertexArray(null);
+    return { program, toClip, texture, vao, positions, uvs, indices };
+  }
+}

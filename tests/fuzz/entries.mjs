@@ -1,0 +1,282 @@
+// The entry points the fuzzer calls: every static factory, constructor, method, getter and
+// free function of pkg/bunraku.d.ts. Each entry says what it is called on (`on`, a class of
+// the pool, or none), its parameters (`params`, the documented types and ranges that
+// checks.mjs holds an accepted call to), how to make valid arguments (`valid`), how to call
+// it (`call`), and what a successful call must have stored (`after`, a round-trip check
+// returning a description of the difference, or null).
+import { describe, tag } from "./values.mjs";
+import * as C from "./checks.mjs";
+
+const KIND = ["position", "bend", "advanced"];
+const num = (o = {}) => ({ type: "num", ...o });
+const int = (o = {}) => ({ type: "int", ...o });
+const en = (values) => ({ type: "enum", values });
+const bool = { type: "bool" };
+const any = { type: "any" };
+const f64 = (o = {}) => ({ type: "f64", finite: true, ...o });
+const opts = (keys) => ({ type: "opts", keys, optional: true });
+const or = (...of) => ({ type: "or", of });
+const rgba = or({ type: "array", of: int({ min: 0, max: 255 }), len: 4 }, { type: "f64", len: 4 }, { type: "f32", len: 4 });
+
+const TERMS = opts({ laplacian: num({ min: 0, max: 1e6 }), meanValue: num({ min: 0, max: 1e6 }), edgeLength: num({ min: 0, max: 1e6 }) });
+const REGISTER = opts({ simulation: any, weights: en(["uniform", "cotangent"]), handleWeight: num({ min: 1e-4, max: 1e6 }),
+  method: en(["injective", "two-step", "nonlinear"]), iterations: int({ min: 0, max: 1000 }), preserveArea: bool, termWeights: TERMS,
+  budgetMs: num({ above: 0 }), maxSolves: int({ min: 1, max: 1e6 }), regularization: num({ min: 0 }) });
+REGISTER.extra = C.otherMethodKeys;
+const OUTLINE = opts({ spacing: num({ above: 0 }), minAngle: num({ above: 0, max: 33 }), maxVertices: int({ min: 1 }), simulationVertices: int({ min: 0 }) });
+const IMAGE = opts({ alphaThreshold: int({ min: 1, max: 255 }), margin: num({ min: 0, max: 256 }), spacing: num({ above: 0 }), maxVertices: int({ min: 1 }),
+  minAngle: num({ above: 0, max: 33 }), simplify: num({ min: 0, max: 64 }), minArea: num(), simulationVertices: int({ min: 0 }) });
+const COMPILE = opts({ kinds: { type: "kinds" }, radius: or(num({ min: 0 }), f64({ min: 0 })) });
+const BLEND = opts({ iterations: int({ min: 0, max: 100 }), simulation: any });
+const POSE = opts({ flipped: en(["reject", "clamp"]), nearAngle: num(), nearPose: int({ min: 0 }) });
+const TRACK = opts({ kinds: { type: "kinds" }, smoothing: num({ min: 0 }), speed: num({ above: 0 }), start: num(), unwrap: bool });
+const FLATTEN = opts({ weights: en(["uniform", "cotangent"]), handleWeight: num({ min: 1e-4, max: 1e6 }), pins: { type: "u32" }, targets: f64() });
+const LINE = or(bool, opts({ color: rgba, width: num({ above: 0, max: 256 }) }));
+const RENDER = opts({ transform: or(f64({ len: 6 }), { type: "f32", len: 6 }, { type: "array", of: num(), len: 6 }), background: rgba, depth: or(f64(), { type: "f32", finite: true }),
+  overlays: opts({ pins: any, wireframe: LINE, outline: LINE, starch: any, depth: or(bool, opts({ front: rgba, back: rgba })) }) });
+const REGION = (amountKey) => ({
+  type: "array",
+  of: { type: "opts", keys: { at: { type: "array", of: num(), len: 2 }, [amountKey]: num(), extent: num({ above: 0 }) }, required: ["at", amountKey, "extent"] },
+});
+const SIZE = int({ min: 1, max: 16384 });
+
+/** Random helpers over the pool. */
+const pick = (g, list) => list[g.rng.int(list.length)];
+const f64Of = (list, label) => tag(new Float64Array(list), label ?? `Float64Array([${list.map((x) => +x.toFixed(6)).join(", ")}])`);
+const round = (x) => Math.round(x * 1000) / 1000;
+
+/** `n` points inside the bounding box of `vertices` (shrunk: pools use convex grids). */
+function pointsIn(g, vertices, n) {
+  let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < vertices.length; i += 2) {
+    x0 = Math.min(x0, vertices[i]); x1 = Math.max(x1, vertices[i]);
+    y0 = Math.min(y0, vertices[i + 1]); y1 = Math.max(y1, vertices[i + 1]);
+  }
+  const out = [];
+  for (let i = 0; i < n; i++) out.push(round(g.rng.range(x0 + 0.1 * (x1 - x0), x1 - 0.1 * (x1 - x0))), round(g.rng.range(y0 + 0.1 * (y1 - y0), y1 - 0.1 * (y1 - y0))));
+  return out;
+}
+
+/** Some of the keys of `all` (an object of valid values), each with probability p. */
+function some(g, all, p = 0.4) {
+  const o = {};
+  for (const [k, v] of Object.entries(all)) if (g.rng.chance(p)) o[k] = v;
+  return o;
+}
+
+/** Valid register options of a random method (only that method's keys). */
+function registerOptions(g) {
+  const method = pick(g, ["injective", "two-step", "nonlinear"]);
+  const o = { method, ...some(g, { weights: pick(g, ["uniform", "cotangent"]), handleWeight: pick(g, [1, 1000, 1e5]) }) };
+  if (method === "injective") Object.assign(o, g.rng.chance(0.8) ? { maxSolves: 1 + g.rng.int(30) } : { budgetMs: 2 });
+  if (method === "nonlinear") Object.assign(o, { iterations: g.rng.int(4) }, some(g, { preserveArea: true, termWeights: { laplacian: 2, edgeLength: 0.5 } }));
+  if (method !== "injective" && g.rng.chance(0.3)) o.regularization = 0.1;
+  return o;
+}
+
+/** A rest-like pose of `vertices`: turned, scaled and moved, with a little noise. */
+function poseOf(g, vertices) {
+  const a = g.rng.range(-3, 3);
+  const s = g.rng.range(0.8, 1.2);
+  const out = new Float64Array(vertices.length);
+  for (let i = 0; i < vertices.length; i += 2) {
+    const [x, y] = [vertices[i], vertices[i + 1]];
+    out[i] = s * (Math.cos(a) * x - Math.sin(a) * y) + 1 + g.rng.range(-0.01, 0.01);
+    out[i + 1] = s * (Math.sin(a) * x + Math.cos(a) * y) - 2 + g.rng.range(-0.01, 0.01);
+  }
+  return tag(out, `pose(turn ${a.toFixed(2)}, scale ${s.toFixed(2)})`);
+}
+
+/** Targets near a puppet's pins. */
+const targetsNear = (g, t) => f64Of(Array.from(t.handles, (x) => round(x + g.rng.range(-0.3, 0.3))));
+
+/** `[angle, scale]` for `n` pins. */
+const rotations = (g, n) => f64Of(Array.from({ length: n }, () => [round(g.rng.range(-4, 4)), round(g.rng.range(0.5, 2))]).flat());
+
+/** Regions (starch or overlap) centred on the shape. */
+function regions(g, vertices, amountKey) {
+  const pts = pointsIn(g, vertices, g.rng.int(3));
+  const out = [];
+  for (let i = 0; i < pts.length; i += 2) out.push({ at: [pts[i], pts[i + 1]], [amountKey]: round(g.rng.range(-2, 3)), extent: round(g.rng.range(0.3, 2)) });
+  return out;
+}
+
+/** Mesh data for rendering from a pool mesh, with a transform onto a w × h frame. */
+function frame(g) {
+  const m = pick(g, g.pool.byKind.mesh).obj;
+  const [w, h] = [4 + g.rng.int(20), 4 + g.rng.int(20)];
+  const v = m.vertices;
+  const s = Math.min(w, h) / (Math.max(...v) + 1);
+  const o = some(g, { transform: [s, 0, 0, s, 0.5, 0.5], background: [255, 255, 255, 255], depth: new Float32Array(m.triangleCount).map((_, i) => i % 3) });
+  if (g.rng.chance(0.2)) o.overlays = some(g, { wireframe: true, outline: { width: 2 }, starch: new Float64Array(m.triangleCount).fill(0.5) }, 0.6);
+  return [tag(v, "mesh.vertices"), tag(m.triangles, "mesh.triangles"), tag(m.uvs, "mesh.uvs"), w, h, o];
+}
+
+/** A getter entry: reads one getter (chosen at random) of an object of `kind`. */
+const getter = (kind, names) => ({
+  name: `${kind}.<getter>`, on: kind, weight: 2, params: [], valid: (g) => { g.getter = pick(g, names); return []; },
+  call: (t, a, g) => t[g.getter], describeCall: (label, args, g) => `(${label}).${g.getter}${args.length ? ` (called with ${args.map((x) => describe(x)).join(", ")})` : ""}`,
+});
+
+/** The `free()` and `[Symbol.dispose]()` of an object of `kind` (the pool makes it again). */
+const free = (kind) => ({ name: `${kind}.free`, on: kind, weight: 0.3, frees: true, params: [], valid: () => [],
+  call: (t, a, g) => (g.rng.chance(0.5) ? t.free() : t[Symbol.dispose]()) });
+
+/** The entry table. `weight` (default 1) makes an entry more or less frequent; `maintain`
+ *  (a pool object's upkeep before the call, true when it changed it) keeps pool objects small. */
+export function entries(lib) {
+  const { Mesh, Puppet, Blender, Track, Player, Renderer, flatten, surfaceFromOBJ } = lib;
+  return [
+    // ---- Mesh
+    { name: "Mesh.fromImage", makes: true, params: [{ type: "rgba" }, SIZE, SIZE, IMAGE],
+      valid: (g) => {
+        const p = pick(g, g.pool.data.pictures);
+        const o = some(g, { spacing: pick(g, [1.5, 2, 4]), alphaThreshold: 1 + g.rng.int(255), margin: g.rng.int(3), minAngle: 25, simplify: 1, maxVertices: 400, minArea: 4 });
+        return [p.rgba, p.width, p.height, o];
+      },
+      call: (_, a) => Mesh.fromImage(...a) },
+    { name: "Mesh.fromJSON", makes: true, params: [{ type: "json" }],
+      valid: (g) => { const j = pick(g, g.pool.data.meshJSONs); return [g.rng.chance(0.3) ? JSON.stringify(j) : j]; },
+      call: (_, a) => Mesh.fromJSON(...a), after: (m, [json]) => C.meshRoundTrip(m, json) },
+    { name: "Mesh.fromOBJ", makes: true, params: [{ type: "str" }], valid: (g) => [pick(g, g.pool.data.objs.concat(g.pool.data.objs3))],
+      call: (_, a) => Mesh.fromOBJ(...a), text: true },
+    { name: "Mesh.fromOutline", makes: true, weight: 1.5, params: [f64(), { type: "array", of: f64(), optional: true }, OUTLINE],
+      valid: (g) => {
+        const outer = pick(g, g.pool.data.outlines);
+        const holes = outer === g.pool.data.outlines[0] && g.rng.chance(0.5) ? [g.pool.data.holes[0]] : [];
+        return [outer, holes, some(g, { spacing: pick(g, [0.5, 0.8, 1.5, 3]), minAngle: 28, maxVertices: 200, simulationVertices: pick(g, [0, 20]) })];
+      },
+      call: (_, a) => Mesh.fromOutline(...a) },
+    { name: "Mesh.refine", on: "mesh", makes: true, params: [int({ min: 1, max: 64 })], valid: (g) => [1 + g.rng.int(3)],
+      call: (t, [k]) => t.refine(k), after: (r, [k], { target: t }) => (r.triangleCount === k * k * t.triangleCount ? null : `refine(${k}) gave ${r.triangleCount} triangles of ${t.triangleCount}`) },
+    { name: "Mesh.toJSON", on: "mesh", params: [], valid: () => [], call: (t) => t.toJSON() },
+    getter("mesh", ["boundary", "simulation", "triangleCount", "triangles", "uvs", "vertexCount", "vertices"]),
+    free("mesh"),
+
+    // ---- Puppet
+    { name: "Puppet.register", makes: true, params: [f64(), { type: "u32" }, REGISTER],
+      valid: (g) => { const m = pick(g, g.pool.data.grids); return [m.vertices, m.triangles, registerOptions(g)]; },
+      call: (_, a) => Puppet.register(...a), after: (p, [, , o]) => C.registerStored(p, o) },
+    { name: "Puppet.fromMesh", makes: true, params: [{ type: "obj", cls: Mesh }, REGISTER],
+      valid: (g) => [pick(g, g.pool.byKind.mesh).obj, registerOptions(g)],
+      call: (_, a) => Puppet.fromMesh(...a), after: (p, [, o]) => C.registerStored(p, o) },
+    { name: "Puppet.compile", on: "puppet", mutates: true, weight: 2, params: [f64({ multipleOf: 2 }), COMPILE],
+      valid: (g, t) => {
+        const n = 1 + g.rng.int(3);
+        const o = some(g, { kinds: Array.from({ length: n }, () => pick(g, KIND)), radius: g.rng.chance(0.5) ? 0.1 : f64Of(Array.from({ length: n }, () => round(g.rng.range(0, 0.2)))) });
+        return [f64Of(pointsIn(g, t.vertices, n)), o];
+      },
+      call: (t, a) => t.compile(...a), after: (t, a) => C.compiled(t, a) },
+    { name: "Puppet.compileVertices", on: "puppet", mutates: true, params: [{ type: "u32" }, COMPILE],
+      valid: (g, t) => {
+        const a = new Set();
+        const n = 1 + g.rng.int(3);
+        while (a.size < n) a.add(g.rng.int(t.vertexCount));
+        return [tag(new Uint32Array(a), `Uint32Array([${[...a]}])`), some(g, { kinds: Array.from(a, () => pick(g, KIND)) })];
+      },
+      call: (t, a) => t.compileVertices(...a) },
+    { name: "Puppet.qualityOf", on: "puppet", params: [f64({ len: (t) => 2 * t.vertexCount })], valid: (g, t) => [poseOf(g, t.vertices)], call: (t, a) => t.qualityOf(...a) },
+    { name: "Puppet.quality", on: "puppet", params: [], valid: () => [], call: (t) => t.quality() },
+    { name: "Puppet.reset", on: "puppet", mutates: true, weight: 0.3, params: [], valid: () => [], call: (t) => t.reset() },
+    { name: "Puppet.setOverlap", on: "puppet", mutates: true, params: [REGION("depth")], valid: (g, t) => [regions(g, t.vertices, "depth")],
+      call: (t, a) => t.setOverlap(...a), after: (t) => C.finiteArray(t.triangleDepth, "triangleDepth") },
+    { name: "Puppet.setStarch", on: "puppet", mutates: true, params: [REGION("amount")], valid: (g, t) => [regions(g, t.vertices, "amount")], call: (t, a) => t.setStarch(...a) },
+    { name: "Puppet.update", on: "puppet", mutates: true, weight: 2, params: [f64({ len: (t) => 2 * t.handleCount }), { ...f64({ len: (t) => 2 * t.handleCount }), optional: true }],
+      valid: (g, t) => [targetsNear(g, t), g.rng.chance(0.4) ? rotations(g, t.handleCount) : undefined],
+      call: (t, a) => t.update(...a), after: (_, __, { result }) => C.finiteResult(result) },
+    { name: "Puppet.updateInto", on: "puppet", mutates: true,
+      params: [f64({ len: (t) => 2 * t.handleCount }), { type: "f64", len: (t) => 2 * t.vertexCount }, { ...f64({ len: (t) => 2 * t.handleCount }), optional: true }],
+      valid: (g, t) => [targetsNear(g, t), new Float64Array(2 * t.vertexCount), undefined],
+      call: (t, a) => t.updateInto(...a), after: (_, [, out]) => C.finiteResult(out) },
+    getter("puppet", ["componentCount", "converged", "handleCount", "handles", "kinds", "lag", "method", "pinPositions", "positions", "radius",
+      "simulationPositions", "simulationTriangles", "simulationVertexCount", "triangleCount", "triangleDepth", "triangles", "vertexCount", "vertices", "weights"]),
+    free("puppet"),
+
+    // ---- Blender
+    { name: "Blender.register", makes: true, params: [f64(), { type: "u32" }, BLEND],
+      valid: (g) => { const m = pick(g, g.pool.data.grids); return [m.vertices, m.triangles, some(g, { iterations: g.rng.int(3) })]; },
+      call: (_, a) => Blender.register(...a) },
+    { name: "Blender.fromMesh", makes: true, params: [{ type: "obj", cls: Mesh }, BLEND], valid: (g) => [pick(g, g.pool.byKind.mesh).obj, some(g, { iterations: g.rng.int(3) })],
+      call: (_, a) => Blender.fromMesh(...a) },
+    { name: "Blender.addPose", on: "blender", mutates: true, weight: 1.5, params: [f64({ len: (t) => 2 * t.vertexCount }), POSE],
+      maintain: (t) => t.poseCount >= 6 && (t.removePose(0), true),
+      valid: (g, t, item) => {
+        const o = some(g, { flipped: pick(g, ["reject", "clamp"]), ...(g.rng.chance(0.5) ? { nearAngle: round(g.rng.range(-7, 7)) } : t.poseCount ? { nearPose: g.rng.int(t.poseCount) } : {}) });
+        return [poseOf(g, item.meta.rest), o];
+      },
+      call: (t, a) => t.addPose(...a), after: (t, a, { result }) => C.poseStored(t, a, result) },
+    { name: "Blender.blend", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 })],
+      valid: (g, t) => [f64Of(Array.from({ length: t.poseCount }, () => round(g.rng.range(-0.5, 1.5))))], call: (t, a) => t.blend(...a), after: (_, __, { result }) => C.finiteResult(result) },
+    { name: "Blender.blendInto", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 }), { type: "f64", len: (t) => 2 * t.vertexCount }],
+      valid: (g, t) => [f64Of(Array.from({ length: t.poseCount }, () => round(g.rng.range(-0.5, 1.5)))), new Float64Array(2 * t.vertexCount)],
+      call: (t, a) => t.blendInto(...a), after: (_, [, out]) => C.finiteResult(out) },
+    { name: "Blender.flippedCount", on: "blender", params: [int({ min: 0, below: (t) => t.poseCount })], valid: (g, t) => [g.rng.int(Math.max(1, t.poseCount))], call: (t, a) => t.flippedCount(...a) },
+    { name: "Blender.removePose", on: "blender", mutates: true, weight: 0.5, params: [int({ min: 0, below: (t) => t.poseCount })], valid: (g, t) => [g.rng.int(Math.max(1, t.poseCount))],
+      call: (t, a) => t.removePose(...a), prepare: (t) => t.poseCount, after: (t, [i], { before }) => C.removed(t, i, before) },
+    getter("blender", ["poseCount", "simulationVertexCount", "triangleCount", "vertexCount"]),
+    free("blender"),
+
+    // ---- Track
+    { name: "new Track", makes: true, params: [int({ min: 0 }), TRACK],
+      valid: (g) => {
+        const n = 1 + g.rng.int(4);
+        return [n, some(g, { kinds: Array.from({ length: n }, () => pick(g, KIND)), smoothing: pick(g, [0, 0.02]), speed: pick(g, [0.5, 1, 2]), start: pick(g, [0, 1.5]), unwrap: false })];
+      },
+      call: (_, a) => new Track(...a), after: (t, a) => C.trackMade(t, a, lib) },
+    { name: "Track.fromJSON", makes: true, params: [{ type: "json" }],
+      valid: (g) => { const j = pick(g, g.pool.data.trackJSONs); return [g.rng.chance(0.3) ? JSON.stringify(j) : j]; },
+      call: (_, a) => Track.fromJSON(...a), after: (t, [json]) => C.dataRoundTrip(t.toJSON(), json, C.lenient(() => Track.fromJSON(t.toJSON()))) },
+    { name: "Track.record", on: "track", mutates: true, weight: 2,
+      params: [num(), f64({ len: (t) => 2 * t.pinCount, max: 1e100, min: -1e100 }), { ...f64({ len: (t) => 2 * t.pinCount }), optional: true }],
+      maintain: (t) => t.sampleCount > 40 && (t.clear(), true),
+      valid: (g, t) => {
+        const n = t.pinCount;
+        return [round(10 + t.end + g.rng.range(0, 0.5)), f64Of(Array.from({ length: 2 * n }, () => round(g.rng.range(-5, 5)))),
+          g.rng.chance(0.5) ? rotations(g, n) : undefined];
+      },
+      call: (t, a) => t.record(...a), after: (t, a) => C.recorded(t, a, lib) },
+    { name: "Track.sampleInto", on: "track", params: [num(), { type: "f64", len: (t) => 2 * t.pinCount }, { type: "f64", len: (t) => 2 * t.pinCount, optional: true }],
+      valid: (g, t) => [round(g.rng.range(-1, 3)), new Float64Array(2 * t.pinCount), g.rng.chance(0.5) ? new Float64Array(2 * t.pinCount) : undefined],
+      call: (t, a) => t.sampleInto(...a) },
+    { name: "Track.clear", on: "track", mutates: true, weight: 0.2, params: [], valid: () => [], call: (t) => t.clear() },
+    { name: "Track.toJSON", on: "track", params: [], valid: () => [], call: (t) => t.toJSON(), after: (_, __, { result }) => C.jsonClean(result) },
+    getter("track", ["duration", "end", "kinds", "pinCount", "sampleCount", "start", "times"]),
+    free("track"),
+
+    // ---- Player
+    { name: "Player.load", makes: true, weight: 2, params: [{ type: "json" }],
+      valid: (g) => { const d = pick(g, g.pool.data.docs); return [g.rng.chance(0.3) ? JSON.stringify(d) : d]; },
+      call: (_, a) => Player.load(...a), after: (p, [doc]) => C.loaded(p, doc, () => Player.load(p.toJSON())) },
+    { name: "Player.positionsAt", on: "player", params: [num()], valid: (g) => [round(g.rng.range(-1, 3))],
+      call: (t, a) => t.positionsAt(...a), after: (_, __, { result }) => C.finiteResult(result) },
+    { name: "Player.positionsInto", on: "player", params: [num(), { type: "f64", len: (t) => 2 * t.vertexCount }],
+      valid: (g, t) => [round(g.rng.range(-1, 3)), new Float64Array(2 * t.vertexCount)], call: (t, a) => t.positionsInto(...a) },
+    { name: "Player.toJSON", on: "player", params: [], valid: () => [], call: (t) => t.toJSON(), after: (_, __, { result }) => C.jsonClean(result) },
+    getter("player", ["duration", "loop", "mode", "picture", "triangleCount", "triangleDepth", "triangles", "uvs", "vertexCount", "vertices"]),
+    free("player"),
+
+    // ---- Renderer
+    { name: "new Renderer", makes: true, params: [{ type: "rgba" }, SIZE, SIZE],
+      valid: (g) => { const p = pick(g, g.pool.data.pictures.slice(0, 2)); return [p.rgba, p.width, p.height]; },
+      call: (_, a) => new Renderer(...a), after: (r, [, w, h]) => (r.width === w && r.height === h ? null : `new Renderer(…, ${C.show(w)}, ${C.show(h)}) has size ${r.width} × ${r.height}`) },
+    { name: "Renderer.render", on: "renderer", weight: 1.5, params: [f64(), { type: "u32" }, { type: "f32" }, SIZE, SIZE, RENDER],
+      valid: (g) => frame(g), call: (t, a) => t.render(...a),
+      after: (_, [, , , w, h], { result: r }) => (r.length === 4 * w * h ? null : `render(…, ${C.show(w)}, ${C.show(h)}) gave ${r.length} bytes`) },
+    { name: "Renderer.renderInto", on: "renderer", params: [{ type: "rgba" }, f64(), { type: "u32" }, { type: "f32" }, SIZE, SIZE, RENDER],
+      valid: (g) => { const f = frame(g); return [new Uint8ClampedArray(4 * f[3] * f[4]), ...f]; }, call: (t, a) => t.renderInto(...a) },
+    getter("renderer", ["width", "height"]),
+    free("renderer"),
+
+    // ---- Free functions
+    { name: "flatten", params: [f64(), { type: "u32" }, FLATTEN],
+      valid: (g) => {
+        const s = g.pool.data.surfaces[0];
+        const pins = g.rng.chance(0.5) ? { pins: new Uint32Array([0, 15]), targets: new Float64Array([0, 0, 3, 3]) } : {};
+        return [s.vertices, s.triangles, some(g, { weights: "uniform", handleWeight: 100, ...pins })];
+      },
+      call: (_, a) => flatten(...a) },
+    { name: "surfaceFromOBJ", params: [{ type: "str" }], valid: (g) => [pick(g, g.pool.data.objs3.concat(g.pool.data.objs))], call: (_, a) => surfaceFromOBJ(...a), text: true },
+    { name: "start", weight: 0.1, params: [], valid: () => [], call: () => lib.start() },
+    { name: "initSync", weight: 0.1, params: [any], valid: (g) => [g.pool.data.wasmBytes], call: (_, a) => lib.initSync(...a) },
+  ];
+}
