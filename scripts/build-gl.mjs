@@ -1,8 +1,10 @@
 // Builds the package's JavaScript: its entry "bunraku" (js/index.ts, which guards the
-// wasm-bindgen glue in pkg/) and the WebGL2 helper `bunraku/gl` (js/gl.ts and the modules of
-// js/gl/ it exports from), compiled by tsc (strict, the settings of js/tsconfig.json) into
-// dist/index.js, dist/gl.js, dist/gl/*.js and their declarations, which package.json's
-// "exports" and "files" name. Run it after
+// wasm-bindgen glue in pkg/), the WebGL2 helper `bunraku/gl` (js/gl.ts and the modules of
+// js/gl/ it exports from), and the layer readers `bunraku/layers` (js/layers.ts, js/layers/)
+// and `bunraku/psd` (js/psd.ts, js/psd/; it imports ag-psd, which stays a dependency and is
+// not bundled), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
+// dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js and
+// their declarations, which package.json's "exports" and "files" name. Run it after
 // scripts/build-wasm.sh: the entry's declarations read pkg/bunraku.d.ts. Skipped when dist/ is newer than its inputs
 // (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
 // scripts/test.sh run it; the tests that import dist/ call `buildGL()` themselves, so
@@ -24,15 +26,26 @@ import { performance } from "node:perf_hooks";
 const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
+/** The package's entries: js/<name>.ts → dist/<name>.js. */
+const ENTRIES = ["index", "gl", "layers", "psd"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "painter", "view"];
+/** The modules of js/layers/ (bunraku/layers; js/psd/ imports layer.ts too), likewise. */
+const LAYERS_MODULES = ["layer", "trim", "xml", "canvas", "images", "svg"];
+/** The modules of js/psd/ (bunraku/psd), likewise. */
+const PSD_MODULES = ["scan", "pixels", "clip", "read"];
+/** Every module of a folder, as a path under js/ (or dist/) without its extension. */
+const MODULES = [
+  ...GL_MODULES.map((m) => `gl/${m}`),
+  ...LAYERS_MODULES.map((m) => `layers/${m}`),
+  ...PSD_MODULES.map((m) => `psd/${m}`),
+];
 /** What the build writes into it (besides its stamp). */
-export const GL_FILES = ["index.js", "index.d.ts", "gl.js", "gl.d.ts", ...GL_MODULES.flatMap((m) => [`gl/${m}.js`, `gl/${m}.d.ts`])];
+export const GL_FILES = [...ENTRIES, ...MODULES].flatMap((m) => [`${m}.js`, `${m}.d.ts`]);
 const INPUTS = [
-  join(root, "js", "index.ts"),
-  join(root, "js", "gl.ts"),
-  ...GL_MODULES.map((m) => join(root, "js", "gl", `${m}.ts`)),
+  ...[...ENTRIES, ...MODULES].map((m) => join(root, "js", `${m}.ts`)),
+  join(root, "js", "psd", "ambient.d.ts"),
   join(root, "pkg", "bunraku.d.ts"),
   join(root, "js", "tsconfig.json"),
   fileURLToPath(import.meta.url),
@@ -48,12 +61,12 @@ function staleBecause() {
   return null;
 }
 
-/** Compiles js/index.ts, js/gl.ts and js/gl/ into dist/ when it is out of date (always with `force`). Throws when
- *  tsc reports an error. */
+/** Compiles js/index.ts, js/gl.ts, js/layers.ts, js/psd.ts and their modules into dist/ when it is out of date
+ *  (always with `force`). Throws when tsc reports an error. */
 export function buildGL({ force = false, log = (line) => console.log(`[build-gl] ${line}`) } = {}) {
   const reason = force ? "--force" : staleBecause();
   if (!reason) {
-    log("dist/gl.js and dist/gl.d.ts are up to date; skipping the build");
+    log("dist/ is up to date; skipping the build");
     return;
   }
   const t0 = performance.now();

@@ -285,6 +285,18 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+    /// A layer of a layered character ([`crate::character`]) that cannot be used: code
+    /// `"too-large"` when it passes a limit, else `"bad-layer"`.
+    BadLayer {
+        /// The layer's index in the list given.
+        index: usize,
+        /// Its field at fault (`"rect"`, `"rgba"`, …; empty for the layer as a whole).
+        field: &'static str,
+        /// Why, after the field.
+        reason: String,
+        /// Whether a limit was passed.
+        too_large: bool,
+    },
     /// A puppet document or a track's JSON that cannot be read or played
     /// ([`crate::animation`]); its code follows the fault: `"bad-document"`,
     /// `"bad-version"`, `"bad-length"` or `"non-finite"`.
@@ -355,7 +367,7 @@ impl Error {
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
     /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
     /// `"bad-pose"`, `"bad-time"`, `"empty-track"`, `"bad-document"`, `"bad-version"`,
-    /// `"bad-simulation"`. A
+    /// `"bad-simulation"`, `"bad-layer"`. A
     /// wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"` too; a bad blend
     /// weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`; a bad document's
     /// code follows its [`DocumentFault`].
@@ -394,6 +406,8 @@ impl Error {
             Error::BadTime { .. } => "bad-time",
             Error::EmptyTrack => "empty-track",
             Error::BadSimulation { .. } => "bad-simulation",
+            Error::BadLayer { too_large: true, .. } => "too-large",
+            Error::BadLayer { .. } => "bad-layer",
             Error::BadDocument { fault, .. } => match fault {
                 DocumentFault::Structure => "bad-document",
                 DocumentFault::Version => "bad-version",
@@ -511,6 +525,8 @@ impl Error {
             Error::BadTime { time, reason } => format!("time {} {reason}", n(*time)),
             Error::EmptyTrack => "the track has no sample".to_string(),
             Error::BadSimulation { what, index, reason } => format!("simulation.{what}[{index}]: {reason}"),
+            Error::BadLayer { index, field: "", reason, .. } => format!("layers[{index}] {reason}"),
+            Error::BadLayer { index, field, reason, .. } => format!("layers[{index}].{field} {reason}"),
             Error::BadDocument { field, value, reason, .. } => {
                 let value = value.map(|x| format!("{} ", n(x))).unwrap_or_default();
                 let field = if field.is_empty() { String::new() } else { format!("{field}: ") };

@@ -119,7 +119,7 @@ pub fn flatten(surface: &Surface, options: &FlattenOptions) -> Result<Flattening
     let n = surface.vertices().len();
     let stencils = edge_stencils(surface.edges(), options.weights, |e, verts| surface.edge_frame(e, verts));
     let order = nested_dissection(surface.vertices(), surface.edges());
-    let system = System::new(n, stencils, Some(&order), None)?;
+    let system = System::new(n, stencils, &[], Some(&order), None)?;
     // Compilation and update as for a 2D puppet: a disc is one connected component, and
     // with two or more pins every vertex is solved. Step 1 is factorised, not expanded in a
     // per-pin basis (one solve instead of one per pin, for the one update made).

@@ -29,6 +29,7 @@
 
 pub mod animation;
 pub mod blend;
+pub mod character;
 pub mod conventions;
 pub mod deform;
 pub mod error;

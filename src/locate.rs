@@ -121,6 +121,12 @@ impl Locator {
     /// candidate in which it lies deepest; a point just outside the boundary (within the
     /// tolerance) is projected onto it.
     pub fn locate(&self, mesh: &Mesh, p: [f64; 2]) -> Option<Location> {
+        self.locate_where(mesh, p, |_| true)
+    }
+
+    /// [`Locator::locate`] among the triangles `t` for which `keep(t)` holds (a part of a
+    /// layered character, whose parts overlap).
+    pub fn locate_where(&self, mesh: &Mesh, p: [f64; 2], keep: impl Fn(u32) -> bool) -> Option<Location> {
         if !(p[0].is_finite() && p[1].is_finite()) {
             return None;
         }
@@ -134,6 +140,9 @@ impl Locator {
         let cell = r * self.cols + c;
         let mut best: Option<(f64, f64, u32)> = None; // (distance, min weight, triangle)
         for &t in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
+            if !keep(t) {
+                continue;
+            }
             let tri = mesh.triangles()[t as usize].map(|v| mesh.vertices()[v as usize]);
             let w = barycentric(tri, p);
             let min_w = w[0].min(w[1]).min(w[2]);

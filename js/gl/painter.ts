@@ -2,24 +2,12 @@
 // caller sizes, with the context and its GPU resources (made again after a lost context).
 
 import type { Affine } from "./affine.js";
+import { takeContext, watchContext, type Canvas } from "./context.js";
 import { depthOrder, hasDepth } from "./depth.js";
 import { PuppetViewError } from "./error.js";
+import { clipMatrix, drawnSmall } from "./frame.js";
 import { isImage, isImageBitmap, pictureSize, premultipliedCopy, type PictureSource } from "./picture.js";
 import { compile, FRAGMENT_SHADER, link, POSITION, UV, VERTEX_SHADER } from "./shaders.js";
-
-/** Device pixels per picture pixel below which the texture is sampled from mipmaps. */
-const MIPMAP_BELOW = 0.75;
-
-/** The context: alpha premultiplied, as the texture is; no depth or stencil buffer, no
- *  multisampling (edges come from the texture's alpha, not from the triangles). */
-const CONTEXT_ATTRIBUTES: WebGLContextAttributes = {
-  alpha: true,
-  premultipliedAlpha: true,
-  antialias: false,
-  depth: false,
-  stencil: false,
-  preserveDrawingBuffer: false,
-};
 
 /** What `MeshPainter` takes besides the canvas. */
 export interface MeshPainterOptions {
@@ -37,8 +25,6 @@ interface Resources {
   uvs: WebGLBuffer;
   indices: WebGLBuffer;
 }
-
-type Canvas = HTMLCanvasElement | OffscreenCanvas;
 
 /**
  * The WebGL2 drawing of a textured mesh on a canvas whose drawing buffer you size: set the
@@ -60,31 +46,27 @@ export class MeshPainter {
   private scratch = new Float32Array(0); // positions as float32, reused every frame
   private readonly toClip = new Float32Array(9);
   private mipmapped = false; // the texture's minification filter uses mipmaps
-  private readonly onLost: (e: Event) => void;
-  private readonly onRestored: () => void;
+  private readonly unwatch: () => void;
 
   /** Takes the canvas's WebGL2 context (throws `no-webgl2` when there is none). */
   constructor(canvas: Canvas, options: MeshPainterOptions = {}) {
-    const gl = canvas.getContext("webgl2", CONTEXT_ATTRIBUTES) as WebGL2RenderingContext | null;
-    if (!gl) throw new PuppetViewError("no-webgl2", "this canvas gives no WebGL2 context");
+    const gl = takeContext(canvas);
     this.canvas = canvas;
     this.gl = gl;
     this.res = gl.isContextLost() ? null : this.createResources();
     const told = options.onContextLost;
-    this.onLost = (e) => {
-      e.preventDefault(); // ask for a restore
+    const lost = () => {
       this.res = null;
       told?.(true);
     };
-    this.onRestored = () => {
+    const restored = () => {
       if (this.disposed) return;
       this.res = this.createResources();
       this.uploadPicture();
       this.uploadMesh();
       told?.(false);
     };
-    canvas.addEventListener("webglcontextlost", this.onLost);
-    canvas.addEventListener("webglcontextrestored", this.onRestored);
+    this.unwatch = watchContext(canvas, lost, restored);
   }
 
   /** Whether the GPU context is lost (draws draw nothing until it is restored). */
@@ -146,7 +128,7 @@ export class MeshPainter {
    * `canvas.height`), over a transparent background. Returns whether it drew: not while
    * the GPU context is lost. Throws `bad-length`, `disposed`.
    */
-  draw(positions: Float64Array | Float32Array, [a, b, c, d, e, f]: Affine): boolean {
+  draw(positions: Float64Array | Float32Array, transform: Affine): boolean {
     this.alive();
     const { gl, res, scratch } = this;
     if (!res || gl.isContextLost()) return false;
@@ -157,22 +139,12 @@ export class MeshPainter {
     gl.clearColor(0, 0, 0, 0);
     gl.clear(gl.COLOR_BUFFER_BIT);
     if (this.triangles.length === 0 || !this.picture) return true;
-    // Canvas pixels (y down) → clip space (y up), composed with the transform; column-major.
-    const sx = 2 / this.canvas.width, sy = -2 / this.canvas.height;
-    const m = this.toClip;
-    m[0] = a * sx; m[1] = b * sy; m[2] = 0;
-    m[3] = c * sx; m[4] = d * sy; m[5] = 0;
-    m[6] = e * sx - 1; m[7] = f * sy + 1; m[8] = 1;
-
     gl.useProgram(res.program);
-    gl.uniformMatrix3fv(res.toClip, false, m);
+    gl.uniformMatrix3fv(res.toClip, false, clipMatrix(this.toClip, transform, this.canvas.width, this.canvas.height));
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, res.texture);
-    // Trilinear filtering only where bilinear would alias: it costs a software renderer
-    // (SwiftShader) enough to miss frames. The scale is the drawing buffer's, which the
-    // browser may have made smaller than the canvas asked for.
-    const buffer = Math.sqrt((gl.drawingBufferWidth * gl.drawingBufferHeight) / (this.canvas.width * this.canvas.height));
-    const mipmapped = buffer * Math.sqrt(Math.abs(a * d - b * c)) < MIPMAP_BELOW;
+    // Trilinear filtering only where bilinear would alias (see `drawnSmall`).
+    const mipmapped = drawnSmall(gl, this.canvas, transform);
     if (mipmapped !== this.mipmapped) {
       this.mipmapped = mipmapped;
       gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, mipmapped ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
@@ -195,8 +167,7 @@ export class MeshPainter {
   dispose(): void {
     if (this.disposed) return;
     this.disposed = true;
-    this.canvas.removeEventListener("webglcontextlost", this.onLost);
-    this.canvas.removeEventListener("webglcontextrestored", this.onRestored);
+    this.unwatch();
     const { gl, res } = this;
     this.res = null;
     this.picture = null;

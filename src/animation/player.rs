@@ -496,12 +496,8 @@ fn register_options(p: Option<&PuppetJson>) -> Result<Options> {
     };
     if let Some(p) = p {
         if let Some(m) = &p.method {
-            o.method = match m.as_str() {
-                "injective" => Method::Injective,
-                "two-step" => Method::TwoStep,
-                "nonlinear" => Method::Nonlinear,
-                _ => return Err(bad("method", m, "\"injective\", \"two-step\" or \"nonlinear\"")),
-            };
+            o.method = Method::from_name(m)
+                .ok_or_else(|| bad("method", m, "\"injective\", \"two-step\" or \"nonlinear\""))?;
         }
         if let Some(w) = &p.weights {
             o.weights = match w.as_str() {
@@ -523,20 +519,16 @@ fn register_options(p: Option<&PuppetJson>) -> Result<Options> {
         o.regularization = p.regularization.unwrap_or(o.regularization);
         // An option of another method would play as if it were absent, and be saved.
         let given = [
-            ("iterations", p.iterations.is_some(), &[Method::Nonlinear][..]),
-            ("preserveArea", p.preserve_area.is_some(), &[Method::Nonlinear]),
-            ("termWeights", p.term_weights.is_some(), &[Method::Nonlinear]),
-            ("maxSolves", p.max_solves.is_some(), &[Method::Injective]),
-            ("regularization", p.regularization.is_some(), &[Method::TwoStep, Method::Nonlinear]),
+            ("iterations", p.iterations.is_some()),
+            ("preserveArea", p.preserve_area.is_some()),
+            ("termWeights", p.term_weights.is_some()),
+            ("maxSolves", p.max_solves.is_some()),
+            ("regularization", p.regularization.is_some()),
         ];
-        if let Some((field, ..)) =
-            given.iter().find(|(_, given, methods)| *given && !methods.contains(&o.method))
-        {
-            let reason = format!(
-                "is not an option of the method {}",
-                Quoted(p.method.as_deref().unwrap_or("injective"))
-            );
-            return Err(fault(DocumentFault::Structure, format!("puppet.{field}"), reason));
+        for (field, _) in given.iter().filter(|(_, given)| *given) {
+            if let Some(reason) = o.method.foreign_option(field) {
+                return Err(fault(DocumentFault::Structure, format!("puppet.{field}"), reason));
+            }
         }
     }
     if o.method == Method::Injective {

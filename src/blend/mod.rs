@@ -170,6 +170,19 @@ impl Blender {
 
     /// [`Blender::new`] for a mesh already validated.
     pub fn from_mesh(mesh: Mesh, options: BlendOptions) -> Result<Blender> {
+        Blender::from_mesh_glued(mesh, &[], options)
+    }
+
+    /// [`Blender::from_mesh`] for a layered character's mesh with its glue rows
+    /// ([`crate::deform::glue`]): the stitching solve includes them, so blends of glued poses
+    /// keep the joints closed. Errors: those of [`Blender::from_mesh`], and
+    /// [`Error::IndexOutOfRange`] for a row that reads a vertex the mesh lacks.
+    pub fn from_mesh_glued(
+        mesh: Mesh,
+        glue: &[crate::deform::GlueRow],
+        options: BlendOptions,
+    ) -> Result<Blender> {
+        crate::deform::glue::check_rows(glue, mesh.vertices().len())?;
         if options.iterations > MAX_ITERATIONS {
             return Err(Error::BadOption {
                 name: "iterations",
@@ -177,7 +190,7 @@ impl Blender {
                 reason: format!("is not a whole number from 0 to {MAX_ITERATIONS}"),
             });
         }
-        let stitch = Stitch::new(&mesh)?;
+        let stitch = Stitch::new(&mesh, glue)?;
         let stitch_quads = stitch.gradients.len();
         let components = stitch.component_count();
         let mut rest_centroids = vec![[0.0; 2]; components];

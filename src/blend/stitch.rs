@@ -24,11 +24,17 @@
 //!   (c_k − c₀)`: one-hot weights reproduce a pose with its position (the paper requires
 //!   `V(e_k) = V_k`, §3; neither the barycentre nor Kaji's code, which holds vertex 0 at
 //!   rest, gives the position).
+//! * **Glue** (a layered character, [`crate::deform::glue`]): the glue rows join `K` with
+//!   their normal terms and a zero right-hand side, so that every blend keeps the joints
+//!   closed (each part stitched on its own would sit at its own translation); glued
+//!   components are one cluster for the translation fix and the centroid. A departure: Kaji
+//!   blends one shape.
 //! * **`E_S`** (§6, steps 1–4): each iteration takes the rotation of the current solution's
 //!   maps, `R_t = polar(Â_t)`, and solves `E_T` again for the targets `R_t S(C_t)`: one more
 //!   back-substitution with the same factor.
 
 use super::polar::Mat2;
+use crate::deform::glue::{clusters, GlueRow};
 use crate::deform::system::symbolic_from;
 use crate::error::{Error, Result};
 use crate::geometry::sub;
@@ -67,8 +73,9 @@ fn weighted_gradients(p: [[f64; 2]; 3]) -> ([f64; 4], f64) {
 }
 
 impl Stitch {
-    /// The gradients, the matrix `K` with its pins, its ordering and factorisation.
-    pub(crate) fn new(mesh: &Mesh) -> Result<Stitch> {
+    /// The gradients, the matrix `K` with its glue rows `glue` and its pins, its ordering
+    /// and factorisation.
+    pub(crate) fn new(mesh: &Mesh, glue: &[GlueRow]) -> Result<Stitch> {
         let n = mesh.vertices().len();
         let tris = mesh.triangles();
         let v = mesh.vertices();
@@ -97,10 +104,15 @@ impl Stitch {
                 }
             }
         }
-        let component = mesh.component_of().to_vec();
-        let mut component_mass = vec![0.0; mesh.component_count()];
-        let mut pinned = vec![false; mesh.component_count()];
-        let mut pins = Vec::with_capacity(mesh.component_count());
+        for row in glue {
+            row.normal_entries(|r, c, x| triplets.push((r, c, x)));
+        }
+        // Glued components move as one: one translation fix and one centroid per cluster.
+        let (cluster, count) = clusters(mesh.component_of(), mesh.component_count(), glue);
+        let component: Vec<u32> = mesh.component_of().iter().map(|&c| cluster[c as usize]).collect();
+        let mut component_mass = vec![0.0; count];
+        let mut pinned = vec![false; count];
+        let mut pins = Vec::with_capacity(count);
         for (vertex, &c) in component.iter().enumerate() {
             component_mass[c as usize] += mass[vertex];
             if !pinned[c as usize] {
@@ -121,7 +133,7 @@ impl Stitch {
         Ok(Stitch { triangles, gradients, areas, mass, component, component_mass, symbolic, factor, work })
     }
 
-    /// The number of connected components.
+    /// The number of connected components (glue-connected clusters).
     pub(crate) fn component_count(&self) -> usize {
         self.component_mass.len()
     }
@@ -236,7 +248,7 @@ mod tests {
     #[test]
     fn maps_of_an_affine_pose_are_its_matrix() {
         let mesh = grid(4);
-        let stitch = Stitch::new(&mesh).unwrap();
+        let stitch = Stitch::new(&mesh, &[]).unwrap();
         let m = [[1.2, -0.4], [0.3, 0.8]];
         let pose: Vec<[f64; 2]> = mesh
             .vertices()
@@ -257,7 +269,7 @@ mod tests {
     fn the_maps_of_a_pose_stitch_back_to_the_pose() {
         // Any pose's own maps are reproduced exactly by E_T (its minimum is 0 there).
         let mesh = grid(5);
-        let mut stitch = Stitch::new(&mesh).unwrap();
+        let mut stitch = Stitch::new(&mesh, &[]).unwrap();
         let pose: Vec<[f64; 2]> = mesh
             .vertices()
             .iter()

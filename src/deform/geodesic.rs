@@ -69,13 +69,27 @@ impl Graph {
     /// `limit` (not explored further) and in other components. O(r log r) for the r
     /// vertices within `limit`.
     pub(crate) fn distances(&self, mesh: &Mesh, location: &Location, limit: f64) -> Vec<f64> {
+        let p = mesh.point_at(location.triangle as usize, location.weights);
+        let seeds = mesh.triangles()[location.triangle as usize].map(|v| {
+            let q = mesh.vertices()[v as usize];
+            (v, (q[0] - p[0]).hypot(q[1] - p[1]))
+        });
+        self.distances_from_seeds(&seeds, limit)
+    }
+
+    /// The distance along the mesh from the nearest of the vertices `sources` to every
+    /// vertex (`+∞` in components without a source).
+    pub(crate) fn distances_from_vertices(&self, sources: impl Iterator<Item = u32>) -> Vec<f64> {
+        let seeds: Vec<(u32, f64)> = sources.map(|v| (v, 0.0)).collect();
+        self.distances_from_seeds(&seeds, f64::INFINITY)
+    }
+
+    /// Dijkstra from `seeds` (`(vertex, starting distance)`), up to `limit`.
+    fn distances_from_seeds(&self, seeds: &[(u32, f64)], limit: f64) -> Vec<f64> {
         let n = self.start.len() - 1;
         let mut d = vec![f64::INFINITY; n];
         let mut heap = BinaryHeap::new();
-        let p = mesh.point_at(location.triangle as usize, location.weights);
-        for &v in &mesh.triangles()[location.triangle as usize] {
-            let q = mesh.vertices()[v as usize];
-            let dist = (q[0] - p[0]).hypot(q[1] - p[1]);
+        for &(v, dist) in seeds {
             if dist < d[v as usize] && dist <= limit {
                 d[v as usize] = dist;
                 heap.push(Item(dist, v));

@@ -15,6 +15,7 @@
 //! | `step2` | the scale-adjusting solve, x and y together | §4.2, equation 7 |
 //! | `two_step` | both steps for one compiled pin set | §6 |
 //! | `components` | how components with fewer than two pins move | conventions 8 |
+//! | [`glue`] | rows joining the parts of a layered character | — |
 //! | `disc` | pins with a radius: each disc set to its best-fitting rigid motion | — |
 //! | [`Rest`], [`Pinned`] | registration; compilation and update | §6 |
 //!
@@ -35,6 +36,7 @@ pub mod clock;
 mod components;
 mod disc;
 pub(crate) mod geodesic;
+pub mod glue;
 pub(crate) mod injective;
 pub(crate) mod nonlinear;
 pub(crate) mod pin_set;
@@ -51,6 +53,7 @@ pub(crate) mod system;
 pub(crate) mod two_step;
 
 pub use clock::set_clock;
+pub use glue::{glue_gap, GlueRow};
 pub use injective::{Report, PIN_TOLERANCE, VISIBLY_SETTLED};
 pub use pin_set::DISC_STIFFNESS;
 pub(crate) use pinned::check_targets;
@@ -101,6 +104,53 @@ pub enum Method {
     #[default]
     Injective,
 }
+
+impl Method {
+    /// Every method, the default first.
+    pub const ALL: [Method; 3] = [Method::Injective, Method::TwoStep, Method::Nonlinear];
+
+    /// The method as the `method` option and the puppet document spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Injective => "injective",
+            Method::TwoStep => "two-step",
+            Method::Nonlinear => "nonlinear",
+        }
+    }
+
+    /// The method named `name` ([`Method::name`]), if any.
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Why the option `option` (its JS and document name) is not one of this method's, or
+    /// `None` when this method reads it. An option of another method would be ignored
+    /// without a word, so the option readers refuse it with this reason.
+    pub fn foreign_option(self, option: &str) -> Option<String> {
+        let (_, methods) = METHOD_OPTIONS.iter().find(|(name, _)| *name == option)?;
+        if methods.contains(&self) {
+            return None;
+        }
+        let names: Vec<String> = methods.iter().map(|m| format!("\"{}\"", m.name())).collect();
+        let plural = if methods.len() > 1 { "s" } else { "" };
+        Some(format!(
+            "is an option of the {} method{plural}, not of \"{}\"",
+            names.join(" and "),
+            self.name()
+        ))
+    }
+}
+
+/// The options that only some methods read (their JS and document names), one table for
+/// `Puppet.register` and the puppet document.
+pub const METHOD_OPTIONS: [(&str, &[Method]); 6] = [
+    ("iterations", &[Method::Nonlinear]),
+    ("preserveArea", &[Method::Nonlinear]),
+    ("termWeights", &[Method::Nonlinear]),
+    ("budgetMs", &[Method::Injective]),
+    ("maxSolves", &[Method::Injective]),
+    ("regularization", &[Method::TwoStep, Method::Nonlinear]),
+];
 
 /// The weight of each term of the nonlinear method's energy (Weng et al. 2006, equation 6:
 /// "we also allow the user to specify a weighting parameter for each energy term"). The

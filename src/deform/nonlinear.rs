@@ -44,6 +44,7 @@
 use num_complex::Complex64 as C64;
 
 use super::components::Motion;
+use super::glue::GlueRow;
 use super::pin_set::PinSet;
 use super::pins::{PinRow, Rotation};
 use super::regularization::Regularization;
@@ -91,8 +92,10 @@ pub(crate) struct NonlinearSystem {
 }
 
 impl NonlinearSystem {
-    /// The rows of `mesh` (section 3) and the pattern of `AᵀA`.
-    pub(crate) fn new(mesh: &Mesh, options: &Options) -> Result<NonlinearSystem> {
+    /// The rows of `mesh` (section 3), the glue rows `glue` (a constant block of `A` with
+    /// target 0, [`super::glue`]; a departure: the paper has one shape) and the pattern of
+    /// `AᵀA`.
+    pub(crate) fn new(mesh: &Mesh, glue: &[GlueRow], options: &Options) -> Result<NonlinearSystem> {
         let v = mesh.vertices();
         let n = v.len();
         let z = |k: u32| C64::new(v[k as usize][0], v[k as usize][1]);
@@ -185,6 +188,9 @@ impl NonlinearSystem {
             .collect();
         for &(i, j, _, _) in &edges {
             add_row(&[(i, 1.0), (j, -1.0)], wh2);
+        }
+        for row in glue {
+            row.normal_entries(|p, q, x| t.push((p, q, x)));
         }
         // Every vertex on the diagonal, so that the pattern holds the pins' and the
         // identity rows whatever the weights.

@@ -230,12 +230,12 @@ impl PinSet {
         // position, or one that holds a position and one a rotation, is solved; one with a
         // single position pin is translated with it; one with only rotations turns about
         // its first rotation pin; one with none stays at rest.
-        let component = |k: usize| {
-            mesh.component_of()[mesh.triangles()[locations[k].triangle as usize][0] as usize] as usize
-        };
-        let mut count = vec![(0usize, 0usize, usize::MAX, usize::MAX); mesh.component_count()];
+        // Glue joins components into clusters ([`super::glue`]): the rule is per cluster.
+        let cluster_of = |v: u32| rest.cluster_of[mesh.component_of()[v as usize] as usize] as usize;
+        let cluster = |k: usize| cluster_of(mesh.triangles()[locations[k].triangle as usize][0]);
+        let mut count = vec![(0usize, 0usize, usize::MAX, usize::MAX); rest.cluster_count];
         for (k, p) in pins.iter().enumerate() {
-            let c = &mut count[component(k)];
+            let c = &mut count[cluster(k)];
             if p.kind.holds_position() {
                 c.0 += 1;
                 c.2 = c.2.min(k);
@@ -245,7 +245,7 @@ impl PinSet {
                 c.3 = c.3.min(k);
             }
         }
-        let per_component: Vec<Motion> = count
+        let per_cluster: Vec<Motion> = count
             .iter()
             .map(|&(positions, rotations, first_position, first_rotation)| match (positions, rotations) {
                 (0, 0) => Motion::Rest,
@@ -254,8 +254,7 @@ impl PinSet {
                 _ => Motion::Solve,
             })
             .collect();
-        let motion = mesh.component_of().iter().map(|&c| per_component[c as usize]).collect();
-        let motion: Vec<Motion> = motion;
+        let motion: Vec<Motion> = (0..n as u32).map(|v| per_cluster[cluster_of(v)]).collect();
         let discs = discs
             .into_iter()
             .enumerate()

@@ -237,6 +237,7 @@ impl Pinned {
         let injective = matches!(self.solver, Solver::Injective(_));
         fit_discs(&p.discs, rest.mesh.vertices(), rotations, injective, &mut self.positions);
         self.report.lag = self.lag(targets);
+        self.report.glue_gap = super::glue_gap(&rest.glue, |v| self.positions[v as usize]);
         Ok(())
     }
 
@@ -396,7 +397,9 @@ impl Solver {
                     _ => None,
                 };
                 let step2 = Step2::new(system, Factor::new_from(&system.step2, &step2_values, previous)?);
-                Solver::Injective(Box::new(Injective::new(system, &data.mesh, pins, w, step2, start)))
+                Solver::Injective(Box::new(Injective::new(
+                    system, &data.mesh, &data.glue, pins, w, step2, start,
+                )))
             }
         })
     }

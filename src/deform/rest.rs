@@ -4,6 +4,7 @@
 use std::sync::{Arc, OnceLock};
 
 use super::geodesic::Graph;
+use super::glue::{check_rows, clusters, GlueRow};
 use super::nonlinear::NonlinearSystem;
 use super::pinned::Pinned;
 use super::pins::{Handle, Pin};
@@ -24,6 +25,11 @@ pub(crate) struct RestData {
     pub(crate) system: System,
     /// The nonlinear method's rows and pattern, when it is the method.
     pub(crate) nonlinear: Option<NonlinearSystem>,
+    /// The glue rows ([`super::glue`]).
+    pub(crate) glue: Vec<GlueRow>,
+    /// Each connected component's glue-connected cluster, and their count.
+    pub(crate) cluster_of: Vec<u32>,
+    pub(crate) cluster_count: usize,
     /// The edge graph for distances along the mesh, made when first needed.
     graph: OnceLock<Graph>,
 }
@@ -47,26 +53,52 @@ impl Rest {
     /// [`crate::Error::Factorization`] if ordering fails. Cost: O(edges) assembly plus the
     /// AMD ordering and symbolic factorisations.
     pub fn register(mesh: Mesh, options: Options) -> Result<Rest> {
+        Rest::register_glued(mesh, Vec::new(), options)
+    }
+
+    /// [`Rest::register`] with glue rows `glue` joining the parts of a layered character
+    /// ([`super::glue`]): constant rows of every method's system, fixed here (they change
+    /// the normal matrices' patterns). Errors: those of [`Rest::register`], and
+    /// [`crate::Error::IndexOutOfRange`] for a row that reads a vertex the mesh lacks.
+    pub fn register_glued(mesh: Mesh, glue: Vec<GlueRow>, options: Options) -> Result<Rest> {
         check_options(&options)?;
+        check_rows(&glue, mesh.vertices().len())?;
         // The identity frame: every neighbourhood in the mesh's own coordinates.
         let stencils = edge_stencils(mesh.edges(), options.weights, |_, verts| {
             verts.map(|v| mesh.vertices()[v as usize])
         });
         let regularization = (options.regularization > 0.0)
             .then(|| Regularization::new(&mesh, |_| true, options.regularization));
-        let system = System::new(mesh.vertices().len(), stencils, None, regularization)?;
+        let system = System::new(mesh.vertices().len(), stencils, &glue, None, regularization)?;
         let nonlinear = if options.method == Method::Nonlinear {
-            Some(NonlinearSystem::new(&mesh, &options)?)
+            Some(NonlinearSystem::new(&mesh, &glue, &options)?)
         } else {
             None
         };
         let locator = Locator::new(&mesh);
-        Ok(Rest(Arc::new(RestData { mesh, locator, options, system, nonlinear, graph: OnceLock::new() })))
+        let (cluster_of, cluster_count) = clusters(mesh.component_of(), mesh.component_count(), &glue);
+        let data = RestData {
+            mesh,
+            locator,
+            options,
+            system,
+            nonlinear,
+            glue,
+            cluster_of,
+            cluster_count,
+            graph: OnceLock::new(),
+        };
+        Ok(Rest(Arc::new(data)))
     }
 
     /// The rest mesh.
     pub fn mesh(&self) -> &Mesh {
         &self.0.mesh
+    }
+
+    /// The glue rows it was registered with.
+    pub fn glue(&self) -> &[GlueRow] {
+        &self.0.glue
     }
 
     /// The options it was registered with.

@@ -7,6 +7,8 @@
 //! * Step 2, `A2ᵀA2 = L2ᵀL2 + C2ᵀC2`, real n×n, shared by x and y (equation 7): the
 //!   weighted graph Laplacian of the edges.
 //!
+//! Glue rows ([`super::glue`]) are constant terms of both, added with the edges' terms.
+//!
 //! A pin's rows couple the three vertices of one triangle, which its edges couple already,
 //! so no pin set changes either pattern: the orderings and symbolic factorisations are made
 //! once here ([`System::new`]), and a new pin set, new edge weights or new pin rows only
@@ -17,6 +19,7 @@
 use num_complex::Complex64 as C64;
 
 use super::components::Motion;
+use super::glue::GlueRow;
 use super::pin_set::PinSet;
 use super::pins::PinRow;
 use super::regularization::Regularization;
@@ -61,16 +64,23 @@ pub(crate) struct Values {
 }
 
 impl System {
-    /// Assembles and orders both normal matrices of `n` unknowns from the edges' rows, with
-    /// AMD, or with the given elimination order for both steps (see
-    /// [`Symbolic::with_ordering`]).
+    /// Assembles and orders both normal matrices of `n` unknowns from the edges' rows and
+    /// the glue rows `glue` (zero right-hand side, [`super::glue`]), with AMD, or with the
+    /// given elimination order for both steps (see [`Symbolic::with_ordering`]).
     pub(crate) fn new(
         n: usize,
         stencils: Vec<Stencil>,
+        glue: &[GlueRow],
         order: Option<&[usize]>,
         regularization: Option<Regularization>,
     ) -> Result<System> {
-        let (mut t1, t2) = edge_triplets(&stencils);
+        let (mut t1, mut t2) = edge_triplets(&stencils);
+        for row in glue {
+            row.normal_entries(|r, c, v| {
+                t1.push((r, c, C64::new(v, 0.0)));
+                t2.push((r, c, v));
+            });
+        }
         if let Some(r) = &regularization {
             t1.extend(r.step1_triplets(&stencils));
         }

@@ -79,6 +79,7 @@ pub(crate) fn nested_mesh(
 ) -> Result<Option<(Mesh, Simulation)>> {
     let mut coarse_spacing = spacing * k as f64;
     let mut attempts = 0;
+    let over_refined = OVER_REFINED * plain_estimate(fine, components, spacing);
     let unsnapped = loop {
         let mesh = simulation_mesh(fine, components, coarse_spacing, min_angle_deg)?;
         let count = refined_vertex_count(&mesh, k);
@@ -86,7 +87,7 @@ pub(crate) fn nested_mesh(
             let limit = MAX_VERTICES;
             return Err(Error::TooMany { what: "vertices", count: count as f64, estimated: true, limit });
         }
-        if count as f64 > OVER_REFINED * plain_estimate(fine, components, spacing) {
+        if count as f64 > over_refined {
             // A sliver forced the simulation mesh far finer than its spacing, and k × k
             // would multiply that: the plain mesh (the caller's fallback) is better.
             return Ok(None);

@@ -228,9 +228,38 @@ impl JsBlender {
 
     /// A blender on `embedding`'s simulation mesh.
     fn carried(embedding: Embedding, options: crate::blend::BlendOptions) -> Result<JsBlender, Thrown> {
+        JsBlender::carried_glued(embedding, &[], options)
+    }
+
+    /// A blender on `embedding`'s simulation mesh with the glue rows `glue` (on it).
+    fn carried_glued(
+        embedding: Embedding,
+        glue: &[crate::deform::GlueRow],
+        options: crate::blend::BlendOptions,
+    ) -> Result<JsBlender, Thrown> {
         let twins = embedding.simulation().twins()?;
-        let blender = Blender::from_mesh(embedding.simulation().mesh().clone(), options)?;
+        let blender = Blender::from_mesh_glued(embedding.simulation().mesh().clone(), glue, options)?;
         JsBlender::new(blender, Some((embedding, twins)))
+    }
+
+    /// A blender of a layered character's poses (`character.blender()`): glued, on its
+    /// simulation mesh when it has one.
+    pub(crate) fn of_character(
+        c: &crate::character::Character,
+        options: &JsValue,
+    ) -> Result<JsBlender, Thrown> {
+        let parsed = blend_options(options)?;
+        if simulation_option(options, c.mesh())?.is_some() {
+            return Err(super::errors::bad_option(
+                "simulation",
+                &JsValue::UNDEFINED,
+                "is the character's own: leave it out",
+            ));
+        }
+        match c.embedding()? {
+            None => JsBlender::new(Blender::from_mesh_glued(c.mesh().clone(), c.glue_rows(), parsed)?, None),
+            Some(e) => JsBlender::carried_glued(e, c.glue_rows(), parsed),
+        }
     }
 }
 

@@ -26,7 +26,7 @@ export type ErrorCode =
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
   | "point-outside" | "overlapping-pins"
-  | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation"
+  | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation" | "bad-layer"
   | "freed" | "not-initialized" | "unreadable";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
@@ -39,7 +39,7 @@ export interface BunrakuError extends Error {
    *  (`[x0, y0, …]`; of a blend's `weights`: the weight); `handle-outside`, `bad-handle`: the handle
    *  (or pin); `bad-pose`: the pose index given; `point-outside`: the starch or overlap region;
    *  `bad-option` for an item of a list (`kinds[1]`, `radius[1]`, `starch[0].extent`): the item;
-   *  `bad-simulation`: the rendered vertex (the rendered triangle when `field` is
+   *  `bad-layer`: the layer; `bad-simulation`: the rendered vertex (the rendered triangle when `field` is
    *  `"simulation.triangles"`) at fault. */
   index?: number;
   /** `non-finite`, `too-large`: the point (vertex, handle, target) the number belongs to. */
@@ -127,6 +127,13 @@ impl Thrown {
     pub fn error(&self) -> &js_sys::Error {
         &self.0
     }
+}
+
+/// The error of a call on an object that another call is using (reachable only by a call
+/// made from inside a getter that the first call reads; the package's entry reads every
+/// argument before the call, so never through it): code `"unreadable"`.
+pub(crate) fn busy(what: &str) -> Thrown {
+    Thrown::new("unreadable", &format!("{what} is in use by a call that has not returned"))
 }
 
 /// The core's option names (the fields of its options structs, as `Error::BadOption` and
@@ -241,6 +248,12 @@ impl From<Error> for Thrown {
             Error::BadTime { time, .. } => t.with("value", time),
             Error::BadSimulation { what, index, .. } => {
                 t.with("field", format!("simulation.{what}")).with("index", index)
+            }
+            Error::BadLayer { index, field: "", .. } => {
+                t.with("field", format!("layers[{index}]")).with("index", index)
+            }
+            Error::BadLayer { index, field, .. } => {
+                t.with("field", format!("layers[{index}].{field}")).with("index", index)
             }
             Error::BadWeight { index, value, limit } => {
                 let t = t.with("index", index).with("value", value);

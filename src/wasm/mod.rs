@@ -26,6 +26,7 @@
 
 mod animation;
 mod blend;
+mod character;
 mod errors;
 mod flatten;
 mod mesh;

@@ -18,7 +18,7 @@ use super::blend::pose_number;
 use super::errors::{bad_option, bad_type, describe, number, unknown_option, wrong_option_type, Thrown};
 use super::{read_exact, TypedArray};
 use crate::blend::{BlendOptions, Flipped, PoseOptions, Reference};
-use crate::deform::Method;
+use crate::deform::{Method, METHOD_OPTIONS};
 use crate::flatten::{FlattenOptions, VertexPin};
 use crate::meshing::{ImageOptions, OutlineOptions};
 use crate::{EdgeWeights, Error, Options};
@@ -278,11 +278,7 @@ pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
     o.weights = fields.weights()?.unwrap_or(o.weights);
     o.handle_weight = fields.number("handleWeight")?.unwrap_or(o.handle_weight);
     if let Some(v) = fields.get("method")? {
-        let name = v.as_string();
-        o.method = match [Method::Injective, Method::TwoStep, Method::Nonlinear]
-            .into_iter()
-            .find(|&m| name.as_deref() == Some(method_name(m)))
-        {
+        o.method = match v.as_string().as_deref().and_then(Method::from_name) {
             Some(m) => m,
             None => {
                 let reason = format!("{} is not \"injective\", \"two-step\" or \"nonlinear\"", describe(&v));
@@ -309,40 +305,14 @@ pub(crate) fn register_options(options: &JsValue) -> Result<Options, Thrown> {
     }
     o.regularization = fields.number("regularization")?.unwrap_or(o.regularization);
     // An option of another method would be ignored without a word: say so instead.
-    for (key, methods) in METHOD_OPTIONS {
+    for (key, _) in METHOD_OPTIONS {
         if let Some(value) = fields.get(key)? {
-            if !methods.contains(&o.method) {
-                let names: Vec<String> = methods.iter().map(|&m| format!("\"{}\"", method_name(m))).collect();
-                let reason = format!(
-                    "is an option of the {} method{}, not of \"{}\"",
-                    names.join(" and "),
-                    if methods.len() > 1 { "s" } else { "" },
-                    method_name(o.method)
-                );
+            if let Some(reason) = o.method.foreign_option(key) {
                 return Err(bad_option(key, &value, &reason));
             }
         }
     }
     Ok(o)
-}
-
-/// The options of `Puppet.register` that only some methods read.
-const METHOD_OPTIONS: [(&str, &[Method]); 6] = [
-    ("iterations", &[Method::Nonlinear]),
-    ("preserveArea", &[Method::Nonlinear]),
-    ("termWeights", &[Method::Nonlinear]),
-    ("budgetMs", &[Method::Injective]),
-    ("maxSolves", &[Method::Injective]),
-    ("regularization", &[Method::TwoStep, Method::Nonlinear]),
-];
-
-/// A `Method` as JS spells it (the `method` option, `Puppet.method`).
-pub(crate) fn method_name(method: Method) -> &'static str {
-    match method {
-        Method::Injective => "injective",
-        Method::TwoStep => "two-step",
-        Method::Nonlinear => "nonlinear",
-    }
 }
 
 /// `Blender.register`'s options.

@@ -68,8 +68,8 @@ pub(crate) fn kind_name(kind: PinKind) -> &'static str {
 
 /// `compile`'s pins: `handles` with the kinds and radii of `options`, and whether a
 /// radius was given (without one, bend and advanced pins get the default).
-pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<(Vec<Pin>, bool), Thrown> {
-    let fields = Fields::open(options, &["kinds", "radius"])?;
+pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<PinOptions, Thrown> {
+    let fields = Fields::open(options, &["kinds", "radius", "parts"])?;
     let n = handles.len();
     let mut pins: Vec<Pin> = handles.into_iter().map(Pin::from).collect();
     if let Some(v) = fields.get("kinds")? {
@@ -120,7 +120,42 @@ pub(crate) fn pins(handles: Vec<Handle>, options: &JsValue) -> Result<(Vec<Pin>,
             return Err(bad_type("options.radius", "a number or a Float64Array", &v));
         }
     }
-    Ok((pins, radius_given))
+    let parts = fields.get("parts")?.map(|v| read_parts(&v, n)).transpose()?;
+    Ok(PinOptions { pins, radius_given, parts })
+}
+
+/// The pins of a compile call and what its options said.
+pub(crate) struct PinOptions {
+    /// The pins, with their kinds and radii.
+    pub(crate) pins: Vec<Pin>,
+    /// Whether `radius` was given (else bend and advanced pins get the default).
+    pub(crate) radius_given: bool,
+    /// `parts`: the part of each pin of a character's puppet (`None`: the topmost opaque
+    /// part at the pin).
+    pub(crate) parts: Option<Vec<Option<usize>>>,
+}
+
+/// The `parts` option: one entry per pin, a part index or `-1` (the topmost opaque part).
+fn read_parts(value: &JsValue, n: usize) -> Result<Vec<Option<usize>>, Thrown> {
+    let array =
+        value.dyn_ref::<Array>().ok_or_else(|| bad_type("options.parts", "an array of numbers", value))?;
+    let len = array.length() as usize;
+    if len != n {
+        return Err(Error::CountMismatch { what: "parts", got: len, expected: n }.into());
+    }
+    (0..len)
+        .map(|i| {
+            let v = array.get(i as u32);
+            match v.as_f64() {
+                Some(-1.0) => Ok(None),
+                Some(x) if x >= 0.0 && x.fract() == 0.0 => Ok(Some(x.min(u32::MAX as f64) as usize)),
+                _ => {
+                    let reason = format!("{} is not a part index (a whole number ≥ 0) or -1", describe(&v));
+                    Err(bad_option(&format!("parts[{i}]"), &v, &reason).with("index", i))
+                }
+            }
+        })
+        .collect()
 }
 
 /// Reads `[angle, scale]` per pin into `out` without allocating (`undefined`: every pin

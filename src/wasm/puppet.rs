@@ -4,10 +4,11 @@
 use js_sys::{Array, Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
+use super::character::{place_on_parts, SharedCharacter};
 use super::flatten::quality_object;
 use super::mesh::JsMesh;
-use super::options::{method_name, register_options, weights_name};
-use super::pins::{kind_name, overlap, pins, read_rotations, starch};
+use super::options::{register_options, weights_name};
+use super::pins::{kind_name, overlap, pins, read_rotations, starch, PinOptions};
 use super::simulation::{mesh_embedding, simulation_option};
 use super::{flat, items, read_exact, typed, Thrown, TypedArray};
 use crate::deform::pins::with_default_radii;
@@ -44,6 +45,9 @@ pub struct Puppet {
     starch: Vec<Starch>,
     /// Each triangle's depth (`setOverlap`); zeros without overlap regions.
     depths: Vec<f32>,
+    /// The layered character this puppet poses (`character.puppet()`), whose parts its
+    /// pins go on.
+    character: Option<SharedCharacter>,
 }
 
 #[wasm_bindgen]
@@ -145,7 +149,7 @@ impl Puppet {
     }
 
     fn install(&mut self, handles: Vec<Handle>, options: &JsValue) -> Result<(), Thrown> {
-        let (mut given, radius_given) = pins(handles, options)?;
+        let PinOptions { pins: mut given, radius_given, parts } = pins(handles, options)?;
         let defaulted = !radius_given && given.iter().any(|p| p.kind.holds_rotation());
         if defaulted {
             let mesh = self.rendered_mesh();
@@ -158,6 +162,14 @@ impl Puppet {
                 })
                 .collect();
             with_default_radii(&mut given, &points, mesh.diameter());
+        }
+        match &self.character {
+            Some(c) => place_on_parts(&*c.borrow()?, &mut given, parts.as_deref())?,
+            None if parts.is_some() => {
+                let reason = "is an option of a character's puppet (character.puppet())";
+                return Err(super::errors::bad_option("parts", &JsValue::UNDEFINED, reason));
+            }
+            None => {}
         }
         match self.compile_pins(&given) {
             // Defaulted discs of pins so close that their triangles touch: points instead.
@@ -446,6 +458,15 @@ impl Puppet {
         self.pinned.as_ref().map_or(0.0, |p| p.report().lag)
     }
 
+    /// The largest glue residual of the last update, in canvas pixels: how far a joint
+    /// between a character's glued parts has opened (0 without glue and before the first
+    /// update). Up to round-off for the two-step and nonlinear methods; the injective
+    /// method opens a joint a little rather than fold a triangle.
+    #[wasm_bindgen(getter, js_name = glueGap)]
+    pub fn glue_gap(&self) -> f64 {
+        self.pinned.as_ref().map_or(0.0, |p| p.report().glue_gap)
+    }
+
     /// Whether the last update's result is the method's answer for its targets: always for
     /// the two-step and nonlinear methods; for the injective method, whether its iteration
     /// converged within the budget. While it is `false`, keep calling `update` with the
@@ -481,7 +502,7 @@ impl Puppet {
     /// The method this puppet was registered with.
     #[wasm_bindgen(getter, unchecked_return_type = "Method")]
     pub fn method(&self) -> String {
-        method_name(self.rest.options().method).into()
+        self.rest.options().method.name().into()
     }
 
     /// The edge weighting this puppet was registered with.
@@ -507,7 +528,25 @@ impl Puppet {
             Some(e) => e.simulation().mesh().clone(),
             None => mesh,
         };
-        let rest = Rest::register(solved, options)?;
+        Puppet::on(Rest::register(solved, options)?, embedding, None)
+    }
+
+    /// A puppet of a layered character: its mesh, glued, on its simulation mesh when it
+    /// has one; pins go on its parts.
+    pub(crate) fn of_character(character: SharedCharacter, options: Options) -> Result<Puppet, Thrown> {
+        let (rest, embedding) = {
+            let c = character.borrow()?;
+            (c.rest(options)?, c.embedding()?)
+        };
+        Puppet::on(rest, embedding, Some(character))
+    }
+
+    /// A puppet of the registered `rest` (carrying `embedding`'s rendered mesh when given).
+    fn on(
+        rest: Rest,
+        embedding: Option<Embedding>,
+        character: Option<SharedCharacter>,
+    ) -> Result<Puppet, Thrown> {
         let rendered = embedding.as_ref().map_or_else(Vec::new, |e| e.rendered().vertices().to_vec());
         let triangles =
             embedding.as_ref().map_or(rest.mesh().triangles().len(), |e| e.rendered().triangles().len());
@@ -522,6 +561,7 @@ impl Puppet {
             rotations: Vec::new(),
             starch: Vec::new(),
             depths: vec![0.0; triangles],
+            character,
         })
     }
 }

@@ -156,7 +156,12 @@ test("save two poses and blend them, record a drag and play it, save and open th
   const reopened = await hook(page, "positions");
   const reopenOff = maxDistance(reopened, end);
   t.diagnostic(`the reopened document's last frame is ${reopenOff.toExponential(2)} px from the first playback's`);
-  assert.ok(reopenOff <= 1e-6 * diagonal, `the reopened document ends ${reopenOff} px from where the recording ended`);
+  // Both are the injective method's settled pose for the same last targets, reached along
+  // paths that depend on how many solves each frame's time budget allowed (fewer under
+  // load): settled means within VISIBLY_SETTLED (1e-4) of the diagonal, not bit for bit
+  // (measured: 0 px on an idle machine, 7.6e-3 px on a 703 px diagonal with two builds
+  // running beside it).
+  assert.ok(reopenOff <= 1e-4 * diagonal, `the reopened document ends ${reopenOff} px from where the recording ended`);
 
   // Video: WebM where the browser records canvases (Chromium does).
   const [video] = await Promise.all([page.waitForEvent("download", { timeout: 20_000 }), page.locator("#export-video").click()]);

@@ -9,7 +9,7 @@ export const CODES = (() => {
     "duplicate-triangle", "non-manifold-edge", "folded-edge", "unused-vertex", "empty-mesh", "handle-outside", "bad-handle",
     "coincident-handles", "factorization-failed", "bad-outline", "bad-picture", "bad-size", "bad-obj", "bad-json",
     "inconsistent-orientation", "not-a-disc", "flipped-triangles", "bad-pose", "point-outside", "overlapping-pins",
-    "bad-time", "empty-track", "bad-document", "bad-version", "bad-simulation"];
+    "bad-time", "empty-track", "bad-document", "bad-version", "bad-simulation", "bad-layer"];
   try {
     const dts = readFileSync(new URL("../../pkg/bunraku.d.ts", import.meta.url), "utf8");
     const union = /export type ErrorCode\s*=([^;]*);/.exec(dts)?.[1];

@@ -6,7 +6,7 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { spawnSync } from "node:child_process";
-import { initSync, Blender, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "bunraku";
+import { initSync, Blender, Character, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "bunraku";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -309,6 +309,13 @@ code("flipped-triangles", () => {
   assert.equal(blender.poseCount, 0);
   assert.equal(blender.addPose(mirror, { flipped: "clamp" }), 0);
   blender.free();
+});
+
+code("bad-layer", () => {
+  const rgba = new Uint8Array(4 * 4 * 4).fill(255);
+  const layer = { name: "a", group: "", rect: [0, 0, 4, 4], visible: true, opacity: 1, blendMode: "normal", rgba };
+  throws(() => Character.fromLayers([layer, { ...layer, rgba: rgba.subarray(1) }]), "bad-layer", { field: "layers[1].rgba", index: 1 }, /^layers\[1\]\.rgba has 63 bytes/);
+  throws(() => Character.fromLayers([{ ...layer, blendMode: "overlay" }]), "bad-layer", { field: "layers[0].blendMode", index: 0 });
 });
 
 code("bad-simulation", () => {

@@ -1,9 +1,10 @@
 // Type-checks every ```js and ```ts snippet of README.md with `tsc --strict` against the
-// built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts for `bunraku/gl`, built here
-// when it is out of date), so that the documentation and the types cannot
-// drift apart; tests/types/api.ts (checks of the declarations themselves) is compiled with
-// them. Each snippet becomes a module of its own in a temporary folder, importing
-// "bunraku" and "bunraku/gl" (mapped to pkg/ and dist/ by `paths`), beside an ambient prelude that declares the free
+// built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts, dist/layers.d.ts and dist/psd.d.ts
+// for `bunraku/gl`, `bunraku/layers` and `bunraku/psd`, built here when they are out of
+// date), so that the documentation and the types cannot drift apart; tests/types/api.ts
+// (checks of the declarations themselves) is compiled with them. Each snippet becomes a
+// module of its own in a temporary folder, importing "bunraku", "bunraku/gl",
+// "bunraku/layers" and "bunraku/psd" (mapped to pkg/ and dist/ by `paths`), beside an ambient prelude that declares the free
 // names the snippets use (tests/types/readme-prelude.d.ts); a snippet's own declarations
 // shadow them. Shell commands and other text are not js/ts blocks and are not checked.
 import { test } from "node:test";
@@ -61,7 +62,12 @@ writeFileSync(
       moduleDetection: "force",
       lib: ["ES2022", "DOM", "ESNext.Disposable"],
       types: [],
-      paths: { bunraku: [join(root, "pkg/bunraku.d.ts")], "bunraku/gl": [join(root, "dist/gl.d.ts")] },
+      paths: {
+        bunraku: [join(root, "pkg/bunraku.d.ts")],
+        "bunraku/gl": [join(root, "dist/gl.d.ts")],
+        "bunraku/layers": [join(root, "dist/layers.d.ts")],
+        "bunraku/psd": [join(root, "dist/psd.d.ts")],
+      },
     },
     files: [join(root, "tests/types/readme-prelude.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
   }),

@@ -43,6 +43,7 @@ use pcg::{axpy, dot, Pcg, Stop};
 
 use super::clock::Budget;
 use super::components::Motion;
+use super::glue::{self, GlueRow};
 use super::pin_set::PinSet;
 use super::pins::{PinRow, Rotation};
 use super::step2::Step2;
@@ -57,6 +58,11 @@ pub struct Report {
     /// mesh's units. 0 up to round-off for the two-step and nonlinear methods' exact pins
     /// (they are soft rows of weight `w`, so a far drag leaves a small miss there too).
     pub lag: f64,
+    /// The largest glue residual ([`crate::deform::glue_gap`]): how far a joint between
+    /// glued parts has opened, in the mesh's units. 0 without glue; up to round-off for the
+    /// stateless methods, whose glue rows weigh far more than the edges'; the injective
+    /// method lets a joint open a little where holding it would fold a triangle.
+    pub glue_gap: f64,
     /// Whether the result is the method's answer for these targets: always for the
     /// stateless methods; for the injective method, whether its iteration converged (call
     /// update again with the same targets to continue).
@@ -175,6 +181,8 @@ pub(crate) struct Injective {
     elements: Elements,
     /// The position rows in the energy (solved components), with their pins.
     rows: Vec<(usize, PinRow)>,
+    /// The glue rows of solved clusters: the energy `|row(x)|²` ([`super::glue`]).
+    glue: Vec<GlueRow>,
     /// The rotation pins' held triangles: `(pin, element, w² a_t)`: the energy
     /// `w² a_t |F − R(θ)|²` (`F` against the scaled rest triangle).
     held: Vec<(usize, u32, f64)>,
@@ -213,12 +221,14 @@ impl Injective {
         &self.step2.factor
     }
 
-    /// The method on `mesh` for the pins `rows` (weight `w`), preconditioned by `step2`
-    /// (the factor of `A2ᵀA2` for these pins), starting from `start` (which must be
-    /// injective on every solved component; the rest shape is used where it is not).
+    /// The method on `mesh` for the pins `rows` (weight `w`) and the glue rows `glue`,
+    /// preconditioned by `step2` (the factor of `A2ᵀA2` for these pins, glue included),
+    /// starting from `start` (which must be injective on every solved component; the rest
+    /// shape is used where it is not).
     pub(crate) fn new(
         system: &System,
         mesh: &Mesh,
+        glue: &[GlueRow],
         pins: &PinSet,
         w: f64,
         step2: Step2,
@@ -289,6 +299,11 @@ impl Injective {
             .filter(|(_, r)| motion[r.first_vertex() as usize] == Motion::Solve)
             .copied()
             .collect();
+        let glue = glue
+            .iter()
+            .filter(|g| g.terms().all(|(v, _)| motion[v as usize] == Motion::Solve))
+            .copied()
+            .collect();
         let rows_len = pins.pins.len();
         let mut x: Vec<Pair> = start.iter().map(|&p| Pair(p)).collect();
         // Each solved component starts from `start` only if it is injective there.
@@ -298,6 +313,7 @@ impl Injective {
         Injective {
             elements,
             rows,
+            glue,
             held,
             pins: pins.clone(),
             log_scales: vec![0.0; n],
@@ -355,9 +371,9 @@ impl Injective {
         self.converged = false;
     }
 
-    /// The pins' part of the energy: `Σ_h w² |B_h x − c_h|²` over the position rows and
-    /// `Σ w² a_t |F_t − R(θ)|²` over the rotation pins' triangles, adding its gradient to
-    /// `grad` when given.
+    /// The pins' and the glue's part of the energy: `Σ_h w² |B_h x − c_h|²` over the
+    /// position rows, `Σ w² a_t |F_t − R(θ)|²` over the rotation pins' triangles and
+    /// `Σ |G_g x|²` over the glue rows, adding its gradient to `grad` when given.
     fn pins(
         &self,
         x: &[Pair],
@@ -365,7 +381,7 @@ impl Injective {
         rotations: &[Rotation],
         mut grad: Option<&mut [Pair]>,
     ) -> f64 {
-        let mut sum = 0.0;
+        let mut sum = glue::energy(&self.glue, x, grad.as_deref_mut());
         for &(k, row) in &self.rows {
             let t = targets[k];
             let mut p = [0.0; 2];
@@ -462,6 +478,7 @@ impl Injective {
             let mut op = Newton {
                 elements: &self.elements,
                 rows: &self.rows,
+                glue: &self.glue,
                 held: &self.held,
                 w2: self.w2,
                 step2: &mut self.step2,

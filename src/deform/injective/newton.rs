@@ -6,6 +6,7 @@ use super::energy::Elements;
 use super::pcg::Operator;
 use crate::deform::clock::Budget;
 use crate::deform::components::Motion;
+use crate::deform::glue::{self, GlueRow};
 use crate::deform::pin_set::PinSet;
 use crate::deform::pins::PinRow;
 use crate::deform::step2::Step2;
@@ -55,6 +56,7 @@ pub(crate) fn add_held_terms(system: &System, mesh: &Mesh, pins: &PinSet, w: f64
 pub(super) struct Newton<'a> {
     pub(super) elements: &'a Elements,
     pub(super) rows: &'a [(usize, PinRow)],
+    pub(super) glue: &'a [GlueRow],
     pub(super) held: &'a [(usize, u32, f64)],
     pub(super) w2: f64,
     pub(super) step2: &'a mut Step2,
@@ -67,6 +69,7 @@ impl Operator for Newton<'_> {
         out.fill(Pair::default());
         self.elements.hessian_times(v, out);
         pin_hessian_times(self.rows, self.w2, v, out);
+        glue::hessian_times(self.glue, v, out);
         for &(_, t, weight) in self.held {
             // The held triangles' term is quadratic in F: its Hessian is 2 w² a_t.
             let df = self.elements.deformation_of(t as usize, v);
