@@ -14,16 +14,35 @@
 // to device pixels (the demo page, www/). No DOM is touched when the module is imported,
 // so its functions also run in Node.
 //
+// A layered character (`Character.fromLayers`) has the same two: `CharacterView` and
+// `CharacterPainter` under it. They draw its parts from one atlas texture (premultiplied
+// on upload, mipmapped no deeper than its padding allows), bottom first in the draw order,
+// each part's triangles one range of the index buffer and each run of neighbouring parts
+// that blend alike one draw call, with the part's opacity and blend mode (normal,
+// multiply, screen, additive: js/gl/blend.ts gives the formulas). A new draw order changes
+// only the list of draw calls.
+//
 // This file is the module's entry: what `bunraku/gl` exports, each from the module of js/gl/
 // that holds it.
 
 export type { Affine } from "./gl/affine.js";
 export { fitTransform } from "./gl/affine.js";
+export type { AtlasSource } from "./gl/atlas.js";
+export { ATLAS_MIPMAP_LEVELS, premultipliedAtlas } from "./gl/atlas.js";
+export type { BlendMode } from "./gl/blend.js";
+export { BLEND_FACTORS, BLEND_MODES } from "./gl/blend.js";
+export type { ViewPlacement } from "./gl/box.js";
+export type { CharacterViewOptions } from "./gl/character.js";
+export { CharacterView } from "./gl/character.js";
+export type { CharacterPainterOptions } from "./gl/characterpainter.js";
+export { CharacterPainter } from "./gl/characterpainter.js";
 export { depthOrder, hasDepth } from "./gl/depth.js";
 export type { PuppetViewErrorCode } from "./gl/error.js";
 export { PuppetViewError } from "./gl/error.js";
 export type { MeshPainterOptions } from "./gl/painter.js";
 export { MeshPainter } from "./gl/painter.js";
+export type { CharacterPartSource, CharacterSource, PartKey } from "./gl/parts.js";
+export { PartTable } from "./gl/parts.js";
 export type { PictureSource } from "./gl/picture.js";
 export type { PuppetViewOptions } from "./gl/view.js";
 export { PuppetView } from "./gl/view.js";

@@ -348,3 +348,58 @@ fn hidden_layers_and_bad_glue() {
     let nowhere = GlueSpec { lower: 0, at: [5.0, 5.0], ..bad };
     assert!(c.set_glue(vec![nowhere]).unwrap_err().to_string().contains("glue[0].at"));
 }
+
+#[test]
+fn a_character_document_round_trips_and_plays_glued_with_a_keyed_draw_order() {
+    use bunraku::animation::{
+        Document, DrawOrderTrackJson, PinsJson, Player, PuppetJson, Track, TrackOptions,
+    };
+    let c = Character::from_layers(&figure(), &options(6.0)).unwrap();
+    let mut d = c.to_document();
+    // The hand raised over two seconds, the torso held; the arm goes behind the torso at 1 s.
+    let mut track = Track::new(vec![bunraku::PinKind::Position; 5], TrackOptions::default()).unwrap();
+    for k in 0..=20 {
+        let f = k as f64 / 20.0;
+        let mut t = TORSO_PINS.to_vec();
+        t.push([HAND[0] + f * (215.0 - HAND[0]), HAND[1] + f * (10.0 - HAND[1])]);
+        track.record(2.0 * f, &t, None).unwrap();
+    }
+    let mut points: Vec<f64> = TORSO_PINS.iter().flatten().copied().collect();
+    points.extend(HAND);
+    d.pins = Some(PinsJson { points, kinds: None, radius: None, parts: Some(vec![0, 0, 0, 0, 1]) });
+    d.puppet = Some(PuppetJson { method: Some("two-step".into()), ..PuppetJson::default() });
+    d.track = Some(track.to_json());
+    d.draw_order_track = Some(DrawOrderTrackJson { times: vec![1.0], orders: vec![vec![1, 0, 2]] });
+    let text = d.to_json();
+    let back = Document::from_json(&text).unwrap();
+    assert_eq!(back, d);
+    assert_eq!(back.to_json(), text, "bit for bit");
+
+    let mut player = Player::new(back).unwrap();
+    assert_eq!(player.draw_order_at(0.5).unwrap(), Some(&[0, 1, 2][..]));
+    assert_eq!(player.draw_order_at(1.0).unwrap(), Some(&[1, 0, 2][..]), "the key's order from its time on");
+    assert_eq!(player.draw_order_at(1.7).unwrap(), Some(&[1, 0, 2][..]));
+    assert!(player.draw_order_at(f64::NAN).is_err());
+    for t in [0.0, 0.7, 1.3, 2.0] {
+        let x = player.positions_at(t).unwrap();
+        let gap = bunraku::deform::glue_gap(c.glue_rows(), |v| x[v as usize]);
+        assert!(gap <= 0.5, "at {t} s: joint gap {gap}");
+    }
+    // The same hand pin without its part lands on the part under it in the mesh (the
+    // torso's triangles come first): the document says which.
+    let hand = player.positions_at(2.0).unwrap();
+    let arm_end = c.parts()[1].vertices.clone().map(|v| hand[v as usize][1]).fold(f64::INFINITY, f64::min);
+    assert!(arm_end < 30.0, "the arm rose to {arm_end}");
+
+    // Layered fields without parts, and parts that do not tile the mesh, are refused.
+    let mut plain = d.clone();
+    plain.parts = None;
+    let e = Player::new(plain).unwrap_err();
+    assert_eq!(e.code(), "bad-document");
+    let mut gapped = d.clone();
+    gapped.parts.as_mut().unwrap()[1].vertices[0] += 1;
+    assert!(Player::new(gapped).unwrap_err().to_string().contains("parts[1].vertices"));
+    let mut bad_order = d.clone();
+    bad_order.draw_order_track = Some(DrawOrderTrackJson { times: vec![1.0], orders: vec![vec![1, 1, 2]] });
+    assert!(Player::new(bad_order).unwrap_err().to_string().contains("drawOrderTrack.orders[0]"));
+}

@@ -11,6 +11,10 @@ export type PuppetViewErrorCode =
   /** Triangles or uvs that do not make a mesh: lengths that are not multiples of 3 and 2,
    *  or a triangle naming a vertex that does not exist. */
   | "bad-mesh"
+  /** Character data whose parts do not fit together: a part's vertices outside `uvs`, an
+   *  opacity outside [0, 1], a blend mode bunraku/gl does not draw, or triangles that do
+   *  not follow the parts in the draw order. */
+  | "bad-character"
   /** Positions or depths of the wrong length for the mesh. */
   | "bad-length"
   /** An option or transform out of range: not finite, or a size that is not positive. */
@@ -21,7 +25,7 @@ export type PuppetViewErrorCode =
    *  please report it with the browser's name. */
   | "webgl";
 
-/** The errors `MeshPainter` and `PuppetView` throw: a real `Error` with a stable `code`. A
+/** The errors bunraku/gl's painters and views throw: a real `Error` with a stable `code`. A
  *  call that throws leaves the painter or view as it was. */
 export class PuppetViewError extends Error {
   /** What went wrong. */

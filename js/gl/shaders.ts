@@ -1,5 +1,5 @@
-// The WebGL2 program `MeshPainter` draws with: its two shaders, the attributes' locations,
-// and their compiling and linking.
+// The WebGL2 programs `MeshPainter` and `CharacterPainter` draw with: their shaders, the
+// attributes' locations, and their compiling and linking.
 
 import { PuppetViewError } from "./error.js";
 
@@ -20,6 +20,18 @@ in vec2 v_uv;
 out vec4 colour;
 void main() {
   colour = texture(u_picture, v_uv);
+}`;
+
+/** The fragment shader of a character's parts: the premultiplied atlas scaled by the
+ *  opacity of the part (or run of parts) being drawn. */
+export const PART_FRAGMENT_SHADER = `#version 300 es
+precision highp float;
+uniform sampler2D u_picture;    // premultiplied RGBA
+uniform float u_opacity;
+in vec2 v_uv;
+out vec4 colour;
+void main() {
+  colour = texture(u_picture, v_uv) * u_opacity;
 }`;
 
 /** The attributes' locations: the vertex positions and the texture coordinates. */

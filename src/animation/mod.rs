@@ -12,19 +12,23 @@
 //! | `document` | [`Document`]: the JSON document, its header and field checks |
 //! | `player` | [`Player`]: positions at any time, through a [`crate::Pinned`] or a [`crate::Blender`] |
 //! | `carried` | a document's simulation mesh: what the player solves on, gathered back to the mesh |
+//! | `puppet` | the document's method and options |
+//! | `layered` | a layered character's parts, glue rows, pins on parts and keyed draw order |
 //!
 //! Every sampled value at a sample's time is that sample exactly, and linear in time
 //! between two samples; stateless methods then give the same positions for the same time
 //! whatever the frame rate (the injective method: see [`Player`]).
 
 mod carried;
+mod layered;
 mod player;
+mod puppet;
 mod track;
 
 pub use bunraku_document::{
-    BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson, PuppetJson,
-    SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION,
-    VERSION,
+    BlendJson, Document, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, MeshJson, MeshingJson,
+    OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson, SimulationJson, StarchJson,
+    TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION, VERSION,
 };
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
 pub use track::{Track, TrackOptions, MAX_PINS};

@@ -1,18 +1,20 @@
 //! [`Player`]: a puppet document's positions at any time.
 
+use super::layered::{glue_rows, Layered};
+use super::puppet::register_options;
 use super::track::parse_kind;
 use super::{carried, Track, TrackOptions};
 use super::{
     check_finite_values, check_len, check_times, check_values, fault, fault_at, lerp, segment, DocumentFault,
 };
 use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
-use crate::deform::PoseState;
+use crate::deform::{GlueRow, PoseState};
 use crate::deform::{Method, Overlap, Starch};
 use crate::error::{Error, Quoted, Result};
 use crate::meshing::ShapeMesh;
 use crate::simulation::{Embedding, PlacedPins};
-use crate::{EdgeWeights, Handle, Mesh, Options, Pin, Pinned, Rest, Rotation};
-use bunraku_document::{check_header, Document, PinsJson, PuppetJson, TrackJson, WeightsJson};
+use crate::{Handle, Mesh, Pin, Pinned, Rest, Rotation};
+use bunraku_document::{check_header, Document, PinsJson, TrackJson, WeightsJson};
 
 /// The injective method's counted budget per update in a [`Player`] when the document
 /// gives no `puppet.maxSolves`: back-substitutions, about one per conjugate-gradient step.
@@ -74,6 +76,8 @@ pub struct Player {
     duration: f64,
     looping: bool,
     engine: Engine,
+    /// A layered character's parts and draw order.
+    layered: Option<Layered>,
 }
 
 #[derive(Debug)]
@@ -178,17 +182,21 @@ impl Player {
         let embedding = carried::embedding(d, &mesh)?;
         let depths = carried::depths(&mesh, embedding.as_ref(), &overlap)?;
         let solved = embedding.as_ref().map_or(&mesh, |e| e.simulation().mesh());
+        let layered = Layered::new(d, &mesh)?;
+        let glue = glue_rows(d, solved.vertices().len())?;
         let (engine, end) = match mode {
             Mode::Still => (Engine::Still, 0.0),
             Mode::Track => {
                 let json = d.track.as_ref().ok_or(Error::EmptyTrack)?;
-                let driven = drive(solved, d, json, embedding.as_ref())?;
+                let on =
+                    Rendered { mesh: &mesh, embedding: embedding.as_ref(), layered: layered.as_ref(), glue };
+                let driven = drive(solved, d, json, &on)?;
                 let end = driven.track.end();
                 (Engine::Track(Box::new(driven)), end)
             }
             Mode::Weights => {
                 let json = d.weights.as_ref().ok_or(Error::EmptyTrack)?;
-                let blended = blend(solved, d, json)?;
+                let blended = blend(solved, d, json, &glue)?;
                 let end = blended.times.last().copied().unwrap_or(0.0);
                 (Engine::Weights(Box::new(blended)), end)
             }
@@ -199,7 +207,7 @@ impl Player {
         });
         let duration = d.duration.unwrap_or(end.max(0.0));
         let looping = d.looping.unwrap_or(false);
-        Ok(Player { document, mesh, carrier, uvs, depths, duration, looping, engine })
+        Ok(Player { document, mesh, carrier, uvs, depths, duration, looping, engine, layered })
     }
 
     /// [`Document::from_json`] and [`Player::new`]. (Native only.)
@@ -285,6 +293,18 @@ impl Player {
             (_, None) => {}
         }
         Ok(())
+    }
+
+    /// A layered character's draw order at time `t` (part indices, bottom first: the last
+    /// key at or before `t` of the keyed draw order, with `loop` as for the positions), or
+    /// `None` for a document of one picture. Errors: [`Error::BadTime`] for a `t` that is
+    /// not finite.
+    pub fn draw_order_at(&self, t: f64) -> Result<Option<&[usize]>> {
+        if !t.is_finite() {
+            return Err(Error::BadTime { time: t, reason: "is not finite" });
+        }
+        let t = if self.looping && self.duration > 0.0 { t.rem_euclid(self.duration) } else { t };
+        Ok(self.layered.as_ref().map(|l| l.order_at(t)))
     }
 
     /// [`Player::positions_into`] into a new vector.
@@ -414,7 +434,17 @@ impl Driven {
 
 /// The pin track's playback: the pins compiled with the document's method on `mesh` (the
 /// simulation mesh of `embedding` when given, the pins placed on it), starch set.
-fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, embedding: Option<&Embedding>) -> Result<Driven> {
+/// Where a track's pins are placed: the rendered mesh, its simulation mesh, a layered
+/// character's parts, and the glue rows the solved mesh is registered with.
+struct Rendered<'a> {
+    mesh: &'a Mesh,
+    embedding: Option<&'a Embedding>,
+    layered: Option<&'a Layered>,
+    glue: Vec<GlueRow>,
+}
+
+fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, on: &Rendered) -> Result<Driven> {
+    let embedding = on.embedding;
     let track = Track::from_json_at(json, "track", &TrackOptions::default())?;
     if track.sample_count() == 0 {
         return Err(fault(DocumentFault::Structure, "track.times".into(), "is empty".into()));
@@ -422,7 +452,7 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, embedding: Option<&Embeddi
     let n = track.pin_count();
     let missing =
         || fault(DocumentFault::Structure, "pins".into(), "is missing (the track drives pins)".into());
-    let PinsJson { points, kinds, radius } = d.pins.as_ref().ok_or_else(missing)?;
+    let PinsJson { points, kinds, radius, .. } = d.pins.as_ref().ok_or_else(missing)?;
     check_values("pins.points", points, 2 * n)?;
     let mut pins: Vec<Pin> = points.chunks_exact(2).map(|c| Pin::from(Handle::Point([c[0], c[1]]))).collect();
     for (i, pin) in pins.iter_mut().enumerate() {
@@ -456,8 +486,11 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, embedding: Option<&Embeddi
             pin.radius = r;
         }
     }
+    if let Some(l) = on.layered {
+        l.place(d, on.mesh, &mut pins)?;
+    }
     let options = register_options(d.puppet.as_ref())?;
-    let rest = Rest::register(mesh.clone(), options)?;
+    let rest = Rest::register_glued(mesh.clone(), on.glue.clone(), options)?;
     let placed = embedding.map(|e| e.place_pins(&pins)).transpose()?;
     let mut pinned = rest.compile_pins(placed.as_ref().map_or(&pins, |p| &p.pins))?;
     let at = |p: [f64; 2]| embedding.and_then(|e| e.simulation_point(p)).unwrap_or(p);
@@ -488,59 +521,10 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, embedding: Option<&Embeddi
     })
 }
 
-/// `puppet`'s method and options, with the injective method's counted budget.
-fn register_options(p: Option<&PuppetJson>) -> Result<Options> {
-    let mut o = Options::default();
-    let bad = |field: &str, name: &str, known: &str| {
-        fault(DocumentFault::Structure, format!("puppet.{field}"), format!("{} is not {known}", Quoted(name)))
-    };
-    if let Some(p) = p {
-        if let Some(m) = &p.method {
-            o.method = Method::from_name(m)
-                .ok_or_else(|| bad("method", m, "\"injective\", \"two-step\" or \"nonlinear\""))?;
-        }
-        if let Some(w) = &p.weights {
-            o.weights = match w.as_str() {
-                "uniform" => EdgeWeights::Uniform,
-                "cotangent" => EdgeWeights::Cotangent,
-                _ => return Err(bad("weights", w, "\"uniform\" or \"cotangent\"")),
-            };
-        }
-        o.handle_weight = p.handle_weight.unwrap_or(o.handle_weight);
-        o.iterations = p.iterations.unwrap_or(o.iterations);
-        o.preserve_area = p.preserve_area.unwrap_or(o.preserve_area);
-        if let Some(t) = &p.term_weights {
-            let w = &mut o.term_weights;
-            w.laplacian = t.laplacian.unwrap_or(w.laplacian);
-            w.mean_value = t.mean_value.unwrap_or(w.mean_value);
-            w.edge_length = t.edge_length.unwrap_or(w.edge_length);
-        }
-        o.max_solves = p.max_solves;
-        o.regularization = p.regularization.unwrap_or(o.regularization);
-        // An option of another method would play as if it were absent, and be saved.
-        let given = [
-            ("iterations", p.iterations.is_some()),
-            ("preserveArea", p.preserve_area.is_some()),
-            ("termWeights", p.term_weights.is_some()),
-            ("maxSolves", p.max_solves.is_some()),
-            ("regularization", p.regularization.is_some()),
-        ];
-        for (field, _) in given.iter().filter(|(_, given)| *given) {
-            if let Some(reason) = o.method.foreign_option(field) {
-                return Err(fault(DocumentFault::Structure, format!("puppet.{field}"), reason));
-            }
-        }
-    }
-    if o.method == Method::Injective {
-        o.max_solves = Some(o.max_solves.unwrap_or(INJECTIVE_SOLVES));
-    }
-    Ok(o)
-}
-
 /// The weight track's playback: the poses added to a blender.
-fn blend(mesh: &Mesh, d: &Document, json: &WeightsJson) -> Result<Blended> {
+fn blend(mesh: &Mesh, d: &Document, json: &WeightsJson, glue: &[GlueRow]) -> Result<Blended> {
     let iterations = d.blend.as_ref().and_then(|b| b.iterations).unwrap_or(0);
-    let mut blender = Blender::from_mesh(mesh.clone(), BlendOptions { iterations })?;
+    let mut blender = Blender::from_mesh_glued(mesh.clone(), glue, BlendOptions { iterations })?;
     let poses = d.poses.as_deref().unwrap_or(&[]);
     let n = mesh.vertices().len();
     let mut points = Vec::with_capacity(n);

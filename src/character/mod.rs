@@ -17,6 +17,7 @@
 //!   pixels hold the point ([`Character::pick`]).
 
 pub mod atlas;
+mod document;
 pub mod glue;
 pub mod layer;
 mod parts;

@@ -388,6 +388,20 @@ impl JsPlayer {
         Ok(self.player.positions_into(t, &mut self.out)?)
     }
 
+    /// A layered character's draw order at time `t` (part indices, bottom first: the keyed
+    /// draw order's last key at or before `t`, with `loop` as for the positions), or `null`
+    /// for a document of one picture. Draw the parts (the document's `parts`, their
+    /// `triangles` ranges) in this order. Throws `bad-type`, `bad-time`.
+    #[wasm_bindgen(js_name = drawOrderAt)]
+    pub fn draw_order_at(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
+    ) -> Result<Option<Uint32Array>, Thrown> {
+        let t = t.as_f64().ok_or_else(|| bad_type("t", "a number", &t))?;
+        let order = self.player.draw_order_at(t)?;
+        Ok(order.map(|o| o.iter().map(|&k| k as u32).collect::<Vec<u32>>()[..].into()))
+    }
+
     /// The animation's length in seconds.
     #[wasm_bindgen(getter)]
     pub fn duration(&self) -> f64 {

@@ -289,6 +289,17 @@ impl JsCharacter {
 
 #[wasm_bindgen(js_class = Character)]
 impl JsCharacter {
+    /// The character as a puppet document at rest (`PuppetDocument`): `mesh` with `uvs`
+    /// into the atlas, `simulation`, `parts`, `glue` (its discs and their rows) and
+    /// `drawOrder`. Add `picture` (the atlas, saved where you like), `pins` (with `parts`),
+    /// `puppet` and a `track` or `poses` and `weights` (and a `drawOrderTrack`), and
+    /// `Player.load` plays it.
+    #[wasm_bindgen(js_name = toDocument, unchecked_return_type = "PuppetDocument")]
+    pub fn to_document(&self) -> Result<JsValue, Thrown> {
+        let text = self.0.borrow()?.to_document().to_json();
+        js_sys::JSON::parse(&text).map_err(|_| busy("the document"))
+    }
+
     /// A `Blender` of the character's poses (`puppet.positions`), with `Blender.register`'s
     /// options (but `simulation`): its stitching includes the glue, so blends of glued
     /// poses keep the joints closed.

@@ -6,6 +6,7 @@
 // returning a description of the difference, or null).
 import { describe, tag } from "./values.mjs";
 import * as C from "./checks.mjs";
+import { CHARACTERS, RIGID_POSES, characterPins, drawOrderOf, glueSpecs, pickPoint } from "./characters.mjs";
 
 const KIND = ["position", "bend", "advanced"];
 const num = (o = {}) => ({ type: "num", ...o });
@@ -26,7 +27,10 @@ REGISTER.extra = C.otherMethodKeys;
 const OUTLINE = opts({ spacing: num({ above: 0 }), minAngle: num({ above: 0, max: 33 }), maxVertices: int({ min: 1 }), simulationVertices: int({ min: 0 }) });
 const IMAGE = opts({ alphaThreshold: int({ min: 1, max: 255 }), margin: num({ min: 0, max: 256 }), spacing: num({ above: 0 }), maxVertices: int({ min: 1 }),
   minAngle: num({ above: 0, max: 33 }), simplify: num({ min: 0, max: 64 }), minArea: num(), simulationVertices: int({ min: 0 }) });
-const COMPILE = opts({ kinds: { type: "kinds" }, radius: or(num({ min: 0 }), f64({ min: 0 })) });
+/** The parts of a character puppet (0 for another puppet: `parts` is then refused). */
+const partCount = (t) => CHARACTERS.get(t)?.parts.length ?? 0;
+const COMPILE = opts({ kinds: { type: "kinds" }, radius: or(num({ min: 0 }), f64({ min: 0 })),
+  parts: { type: "array", of: int({ min: -1, below: partCount }) } }); // one per pin; -1: the topmost opaque part
 const BLEND = opts({ iterations: int({ min: 0, max: 100 }), simulation: any });
 const POSE = opts({ flipped: en(["reject", "clamp"]), nearAngle: num(), nearPose: int({ min: 0 }) });
 const TRACK = opts({ kinds: { type: "kinds" }, smoothing: num({ min: 0 }), speed: num({ above: 0 }), start: num(), unwrap: bool });
@@ -39,6 +43,25 @@ const REGION = (amountKey) => ({
   of: { type: "opts", keys: { at: { type: "array", of: num(), len: 2 }, [amountKey]: num(), extent: num({ above: 0 }) }, required: ["at", amountKey, "extent"] },
 });
 const SIZE = int({ min: 1, max: 16384 });
+
+// Characters (issue 24). A layer's rect is four whole numbers within ±2²⁰, not empty, its
+// rgba (r − l)(b − t)·4 bytes (`C.layerProblem`); a clipping layer is refused. The declared
+// Layer has every field but `clipping` required; the reader defaults name and group to "",
+// visible to true, opacity to 1 and blendMode to "normal", so only rect and rgba are here.
+const LAYER = { type: "opts", required: ["rect", "rgba"], extra: C.layerProblem, keys: {
+  name: { type: "str" }, group: { type: "str" }, rect: { type: "array", of: int({ min: -(2 ** 20), max: 2 ** 20 }), len: 4 }, visible: bool,
+  opacity: num({ min: 0, max: 1 }), blendMode: en(["normal", "multiply", "screen", "additive"]), clipping: en([false]), rgba: { type: "rgba" } } };
+/** A part by index (below the part count, when known) or by name. */
+const PART = (below) => or(int({ min: 0, below }), { type: "str" });
+/** Glue discs: two different parts, `at` finite, radius ≥ 0 (+∞: the whole overlap; default
+ *  3 spacings), weight in (0, 10⁶] (default 100); at most 16 per part. */
+const GLUE = (below) => ({ type: "array", of: { type: "opts", required: ["upper", "lower", "at"], keys: { upper: PART(below), lower: PART(below),
+  at: { type: "array", of: num(), len: 2 }, radius: num({ min: 0, infinite: true }), weight: num({ above: 0, max: 1e6 }) } } });
+const CHARACTER = opts({ spacing: num({ above: 0 }), hidden: en(["skip", "keep"]), glue: or(en(["auto"]), GLUE()), simulationVertices: int({ min: 0 }),
+  alphaThreshold: int({ min: 1, max: 255 }) });
+const partsOf = (t) => t.parts.length;
+const CHARACTER_REGISTER = opts(Object.fromEntries(Object.entries(REGISTER.keys).filter(([k]) => k !== "simulation"))); // its own simulation
+CHARACTER_REGISTER.extra = C.otherMethodKeys;
 
 /** Random helpers over the pool. */
 const pick = (g, list) => list[g.rng.int(list.length)];
@@ -74,17 +97,19 @@ function registerOptions(g) {
   return o;
 }
 
-/** A rest-like pose of `vertices`: turned, scaled and moved, with a little noise. */
-function poseOf(g, vertices) {
+/** A rest-like pose of `vertices`: turned, scaled and moved, with a little noise (none for a
+ *  glued character's blender: a pose whose joints gap cannot be blended back exactly). */
+function poseOf(g, vertices, noise = 0.01) {
   const a = g.rng.range(-3, 3);
   const s = g.rng.range(0.8, 1.2);
   const out = new Float64Array(vertices.length);
   for (let i = 0; i < vertices.length; i += 2) {
     const [x, y] = [vertices[i], vertices[i + 1]];
-    out[i] = s * (Math.cos(a) * x - Math.sin(a) * y) + 1 + g.rng.range(-0.01, 0.01);
-    out[i + 1] = s * (Math.sin(a) * x + Math.cos(a) * y) - 2 + g.rng.range(-0.01, 0.01);
+    out[i] = s * (Math.cos(a) * x - Math.sin(a) * y) + 1 + g.rng.range(-noise, noise);
+    out[i + 1] = s * (Math.sin(a) * x + Math.cos(a) * y) - 2 + g.rng.range(-noise, noise);
   }
-  return tag(out, `pose(turn ${a.toFixed(2)}, scale ${s.toFixed(2)})`);
+  if (noise === 0) RIGID_POSES.add(out);
+  return tag(out, `pose(turn ${a.toFixed(2)}, scale ${s.toFixed(2)}${noise === 0 ? ", rigid" : ""})`);
 }
 
 /** Targets near a puppet's pins. */
@@ -161,10 +186,15 @@ export function entries(lib) {
       valid: (g) => [pick(g, g.pool.byKind.mesh).obj, registerOptions(g)],
       call: (_, a) => Puppet.fromMesh(...a), after: (p, [, o]) => C.registerStored(p, o) },
     { name: "Puppet.compile", on: "puppet", mutates: true, weight: 2, params: [f64({ multipleOf: 2 }), COMPILE],
-      valid: (g, t) => {
+      valid: (g, t, item) => {
         const n = 1 + g.rng.int(3);
         const o = some(g, { kinds: Array.from({ length: n }, () => pick(g, KIND)), radius: g.rng.chance(0.5) ? 0.1 : f64Of(Array.from({ length: n }, () => round(g.rng.range(0, 0.2)))) });
-        return [f64Of(pointsIn(g, t.vertices, n)), o];
+        const character = item?.meta.character; // a character's puppet: pins inside parts, with `parts` mostly
+        if (!character) return [f64Of(pointsIn(g, t.vertices, n)), o];
+        const { points, parts } = characterPins(g, character, n);
+        if (o.kinds) o.kinds.length = parts.length;
+        if (typeof o.radius !== "number") delete o.radius;
+        return [points, g.rng.chance(0.7) ? { ...o, parts } : o];
       },
       call: (t, a) => t.compile(...a), after: (t, a) => C.compiled(t, a) },
     { name: "Puppet.compileVertices", on: "puppet", mutates: true, params: [{ type: "u32" }, COMPILE],
@@ -202,7 +232,7 @@ export function entries(lib) {
       maintain: (t) => t.poseCount >= 6 && (t.removePose(0), true),
       valid: (g, t, item) => {
         const o = some(g, { flipped: pick(g, ["reject", "clamp"]), ...(g.rng.chance(0.5) ? { nearAngle: round(g.rng.range(-7, 7)) } : t.poseCount ? { nearPose: g.rng.int(t.poseCount) } : {}) });
-        return [poseOf(g, item.meta.rest), o];
+        return [poseOf(g, item.meta.rest, item.meta.glued ? 0 : 0.01), o];
       },
       call: (t, a) => t.addPose(...a), after: (t, a, { result }) => C.poseStored(t, a, result) },
     { name: "Blender.blend", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 })],
@@ -266,6 +296,28 @@ export function entries(lib) {
       valid: (g) => { const f = frame(g); return [new Uint8ClampedArray(4 * f[3] * f[4]), ...f]; }, call: (t, a) => t.renderInto(...a) },
     getter("renderer", ["width", "height"]),
     free("renderer"),
+
+    // ---- Character
+    { name: "Character.fromLayers", makes: true, weight: 1.5, params: [{ type: "array", of: LAYER }, CHARACTER],
+      valid: (g) => {
+        const set = pick(g, g.pool.data.layerSets);
+        const o = some(g, { hidden: pick(g, ["skip", "keep"]), simulationVertices: pick(g, [0, 0, 64]), alphaThreshold: pick(g, [1, 128, 255]), glue: g.rng.chance(0.3) ? "auto" : set.glue });
+        return [set.layers, g.rng.chance(0.9) ? { spacing: pick(g, [3, 4]), ...o } : o];
+      },
+      call: (_, a) => lib.Character.fromLayers(...a), after: (c, a) => C.characterMade(c, a) },
+    { name: "Character.pick", on: "character", params: [num(), num()], valid: (g, t, item) => pickPoint(g, item), call: (t, a) => t.pick(...a),
+      after: (t, a, { result }) => C.picked(t, a, result) },
+    { name: "Character.puppet", on: "character", makes: true, params: [CHARACTER_REGISTER], valid: (g) => [registerOptions(g)], call: (t, a) => t.puppet(...a),
+      after: (p, [o], { target }) => C.registerStored(p, o) ?? C.madeOf(p, target) },
+    { name: "Character.blender", on: "character", makes: true, params: [opts({ iterations: int({ min: 0, max: 100 }) })], valid: (g) => [some(g, { iterations: g.rng.int(3) })],
+      call: (t, a) => t.blender(...a), after: (b, _, { target }) => C.madeOf(b, target) },
+    { name: "Character.setGlue", on: "character", mutates: true, params: [GLUE(partsOf)], valid: (g, t, item) => [glueSpecs(g, item)],
+      call: (t, a) => t.setGlue(...a), after: (t, [specs]) => C.glueStored(t, specs, CHARACTERS.get(t)?.options.spacing) },
+    { name: "Character.drawOrder", on: "character", mutates: true, params: [{ type: "array", of: PART(partsOf) }], valid: (g, t, item) => [drawOrderOf(g, item)],
+      call: (t, a) => { t.drawOrder = a[0]; }, describeCall: (label, args) => `(${label}).drawOrder = ${args.length ? describe(args[0]) : "undefined"}${args.length > 1 ? ` (and ${args.length - 1} more)` : ""}`,
+      after: (t, [order]) => C.orderStored(t, order) },
+    getter("character", ["atlas", "drawOrder", "glue", "parts", "triangles", "uvs", "vertices", "warnings"]),
+    free("character"),
 
     // ---- Free functions
     { name: "flatten", params: [f64(), { type: "u32" }, FLATTEN],

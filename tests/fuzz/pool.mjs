@@ -1,10 +1,12 @@
 // The pool of valid objects and data the fuzzer draws from: meshes, puppets of each method,
-// blenders, tracks, players of documents the library itself wrote, renderers, and freed
-// objects of each class. Each object comes with `snapshot` (what it holds, read by getters:
-// a failed call must leave it unchanged) and `probe` (what it answers to a fixed call: it
-// must still answer, and the same, after a failed call).
+// blenders, tracks, players of documents the library itself wrote, renderers, layered
+// characters with their puppets and blenders (characters.mjs), and freed objects of each
+// class. Each object comes with `snapshot` (what it holds, read by getters: a failed call
+// must leave it unchanged) and `probe` (what it answers to a fixed call: it must still
+// answer, and the same, after a failed call).
 import { tag } from "./values.mjs";
 import { bar } from "../node/_grid.mjs";
+import { addCharacters, characterSnapshot, characterProbe } from "./characters.mjs";
 
 /** A w × h grid of unit squares (the Node tests' `bar`), its arrays labelled for reproducers. */
 export function grid(w, h = w) {
@@ -50,6 +52,7 @@ const SNAPSHOT = {
   track: (t) => key([t.pinCount, t.sampleCount, t.toJSON()]),
   player: (p) => key([p.mode, p.duration, p.loop, p.toJSON()]),
   renderer: (r) => key([r.width, r.height]),
+  character: (c) => characterSnapshot(c, key),
 };
 
 const tiny = grid(1);
@@ -63,6 +66,7 @@ const BORROW = {
   track: (t) => t.record(NaN, new Float64Array(2 * t.pinCount)),
   player: (p) => p.positionsInto(0, new Float64Array(1)),
   renderer: (r) => r.render(tiny.vertices, tiny.triangles, tinyUv, 0, 0),
+  character: (c) => { c.drawOrder = []; }, // read, then the order borrowed to be set, and refused
 };
 
 /** What each class answers to a fixed call (stateless methods: a solve; others: reads). */
@@ -84,6 +88,7 @@ const PROBE = {
   },
   player: (p) => key(p.positionsAt(0.37)),
   renderer: (r) => key(r.render(tiny.vertices, tiny.triangles, tinyUv, 4, 3, { background: [1, 2, 3, 4] })),
+  character: (c) => characterProbe(c, key),
 };
 
 /** A read-only call on an object of each class, for getters that call back into it. */
@@ -94,6 +99,7 @@ export const READ = {
   track: (t) => t.sampleCount,
   player: (p) => p.vertexCount,
   renderer: (r) => r.width,
+  character: (c) => c.drawOrder,
 };
 
 /** An object of the pool: its class, a label for reproducers, how to make it again. */
@@ -228,9 +234,12 @@ export function buildPool(lib) {
   add("renderer", "new Renderer(picture(8, 8))", () => new Renderer(tex.rgba, 8, 8));
   add("renderer", "new Renderer(picture(5, 3))", () => { const p = picture(5, 3); return new Renderer(p.rgba, 5, 3); });
 
+  // Characters (issue 24), their puppets and blenders.
+  const layerSets = addCharacters(add, lib);
+
   // Freed objects of every class.
   const freed = {};
-  for (const kind of ["mesh", "puppet", "blender", "track", "player", "renderer"]) {
+  for (const kind of ["mesh", "puppet", "blender", "track", "player", "renderer", "character"]) {
     const source = items.find((it) => it.kind === kind);
     const it = new Item(kind, `freed ${source.label}`, source.build);
     it.obj.free();
@@ -251,6 +260,7 @@ export function buildPool(lib) {
     objs: [tag("v 0 0\nv 1 0\nv 1 1\nv 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n", "quadOBJ")],
     surfaces: [bentGrid(3)],
     poses,
+    layerSets,
     simulation: sim,
     wasmBytes: tag({ module: new Uint8Array(8) }, "{ module: <bytes> }"),
   };

@@ -19,6 +19,8 @@ declare const vertices3: Float64Array;
 declare const triangles: Uint32Array;
 /** The text of a Wavefront OBJ file. */
 declare const objText: string;
+// A file the user dropped or picked ("Layered characters").
+declare const file: File;
 
 // Vite's `?url` imports (vite/client declares them in a Vite project).
 declare module "*?url" {

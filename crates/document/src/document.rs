@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::character::{DrawOrderTrackJson, GlueJson, PartJson};
 use crate::read::{from_text, header, MAX_POSES};
 use crate::{fault, fault_at, quoted, DocumentFault, Result};
 
@@ -67,6 +68,18 @@ pub struct Document {
     /// The pins' recorded motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub track: Option<TrackJson>,
+    /// A layered character's parts, in the mesh's order (`picture` is then its atlas).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts: Option<Vec<PartJson>>,
+    /// A layered character's glue: its discs and their rows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glue: Option<GlueJson>,
+    /// The parts' draw order: part indices, bottom first (default: the parts' order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub draw_order: Option<Vec<u32>>,
+    /// A keyed draw order (step interpolation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub draw_order_track: Option<DrawOrderTrackJson>,
     /// The poses' weights over time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weights: Option<WeightsJson>,
@@ -216,6 +229,10 @@ pub struct PinsJson {
     /// One radius per pin, rest units, ≥ 0; default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<Vec<f64>>,
+    /// A layered character's pins: the part of each pin (its point is located on that
+    /// part's triangles only, since parts overlap).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts: Option<Vec<u32>>,
 }
 
 /// A starch region (`Puppet.setStarch`).

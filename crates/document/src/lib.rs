@@ -9,9 +9,11 @@
 //! everything here from `bunraku::animation` and turns a [`DocumentError`] into its
 //! `Error::BadDocument`.
 
+mod character;
 mod document;
 pub mod read;
 
+pub use character::{DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
 pub use document::{
     check_header, BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson,
     PuppetJson, SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MIN_VERSION,

@@ -1,0 +1,144 @@
+// `CharacterView`: a `CharacterPainter` that sizes the canvas's drawing buffer to its CSS box
+// and the device pixel ratio, and maps the character's canvas pixels to CSS pixels (a
+// transform, or a fit of some points), as `PuppetView` does for one picture.
+
+import type { Affine } from "./affine.js";
+import { CanvasBox, type ViewPlacement } from "./box.js";
+import { CharacterPainter } from "./characterpainter.js";
+import { PuppetViewError } from "./error.js";
+import type { CharacterSource, PartKey } from "./parts.js";
+
+/** What `CharacterView` takes besides the canvas and the character: where to draw
+ *  (`ViewPlacement`: `transform` or `fit` and `fill`, `pixelRatio`; the character's units
+ *  are its canvas pixels, so `fit: character.vertices` centres it), and: */
+export interface CharacterViewOptions extends ViewPlacement {
+  /** Told `true` when the GPU context is lost and `false` once it is back: draw again then
+   *  (an animation loop does so anyway). */
+  onContextLost?: (lost: boolean) => void;
+}
+
+/**
+ * Plays a layered character on a canvas with WebGL2: its parts drawn from one atlas
+ * texture at the positions of each frame, bottom first in the draw order, each with its
+ * opacity and blend mode (normal, multiply, screen, additive: see `BlendMode`). It sizes
+ * the canvas's drawing buffer to its CSS box times the device pixel ratio (at every draw,
+ * when they change) and maps the character's units to CSS pixels by `transform` (or a fit
+ * of some points).
+ *
+ * ```ts
+ * const character = Character.fromLayers(await readLayersFromPSD(bytes));
+ * const puppet = character.puppet();
+ * const view = new CharacterView(canvas, character, { fit: character.vertices, fill: 0.9 });
+ * view.draw(puppet.update(targets));      // every frame
+ * view.setDrawOrder(["torso", "arm"]);   // cheap: only the draw calls change
+ * view.dispose();
+ * ```
+ */
+export class CharacterView {
+  /** The canvas drawn on. */
+  readonly canvas: HTMLCanvasElement;
+  private readonly painter: CharacterPainter;
+  private readonly box: CanvasBox;
+  private disposed = false;
+
+  /** Reads the character (a `Character`, whose getters are read once, or the same data),
+   *  takes the canvas's WebGL2 context and uploads the atlas and the mesh. Throws a
+   *  `PuppetViewError`: `bad-option`, `bad-character`, `bad-picture` (the atlas),
+   *  `no-webgl2`. */
+  constructor(canvas: HTMLCanvasElement, character: CharacterSource, options: CharacterViewOptions = {}) {
+    const { onContextLost } = options;
+    this.canvas = canvas;
+    this.box = new CanvasBox(canvas, options);
+    this.painter = new CharacterPainter(canvas, character, onContextLost ? { onContextLost } : {});
+    this.box.observe();
+  }
+
+  /** The character's units → CSS pixels, as the next draw maps them (the fit for the
+   *  canvas's size as last measured, with `fit`). */
+  get transform(): Affine {
+    return this.box.transform;
+  }
+
+  /** Maps the character's units to CSS pixels by `transform` from now on (no more fit).
+   *  Throws `bad-option`. */
+  setTransform(transform: Affine): void {
+    this.alive();
+    this.box.setTransform(transform);
+  }
+
+  /** Centres `points` in the canvas from now on, covering `fill` of it, following its
+   *  size (see `ViewPlacement.fit`). Throws `bad-option`. */
+  fit(points: ArrayLike<number>, fill = 1): void {
+    this.alive();
+    this.box.fit(points, fill);
+  }
+
+  /** Device pixels per CSS pixel of the drawing buffer, as it is now sized. */
+  get pixelRatio(): number {
+    return this.box.pixelRatio;
+  }
+
+  /** Whether the GPU context is lost (draws draw nothing until it is restored). */
+  get contextLost(): boolean {
+    return this.painter.contextLost;
+  }
+
+  /** The parts' names, by index (`character.parts`' order). */
+  get partNames(): readonly string[] {
+    return this.painter.partNames;
+  }
+
+  /** The visible parts drawn, by index, bottom first. */
+  get drawOrder(): number[] {
+    return this.painter.drawOrder;
+  }
+
+  /** How many draw calls a draw makes (see `CharacterPainter.drawCalls`). */
+  get drawCalls(): number {
+    return this.painter.drawCalls;
+  }
+
+  /** Draws the parts in `order` from now on (indices or unique names, bottom first: see
+   *  `CharacterPainter.setDrawOrder`); cheap enough for every frame. Throws `bad-option`. */
+  setDrawOrder(order: ArrayLike<PartKey>): void {
+    this.alive();
+    this.painter.setDrawOrder(order);
+  }
+
+  /** Draws `part` (index or unique name) at `opacity`, in [0, 1], from now on. Throws
+   *  `bad-option`. */
+  setOpacity(part: PartKey, opacity: number): void {
+    this.alive();
+    this.painter.setOpacity(part, opacity);
+  }
+
+  /** Sizes the drawing buffer to the canvas's CSS content box times the pixel ratio, when
+   *  they differ (`draw` calls it; see `PuppetView.resize`). Returns whether the buffer
+   *  changed. */
+  resize(): boolean {
+    this.alive();
+    return this.box.resize();
+  }
+
+  /** Draws the character at `positions` (`[x0, y0, …]`, one pair per vertex of the
+   *  character: `puppet.update`'s) over a transparent background. Returns whether it drew:
+   *  not while the GPU context is lost, nor while the canvas is not laid out. Throws
+   *  `bad-length`, `disposed`. */
+  draw(positions: Float64Array | Float32Array): boolean {
+    this.alive();
+    const transform = this.box.deviceTransform();
+    return transform !== null && this.painter.draw(positions, transform);
+  }
+
+  /** Releases the GPU resources and stops watching the canvas; the view cannot be used
+   *  again (calls throw `disposed`). The canvas keeps its context: a new view can use it. */
+  dispose(): void {
+    this.disposed = true;
+    this.box.disconnect();
+    this.painter.dispose();
+  }
+
+  private alive(): void {
+    if (this.disposed) throw new PuppetViewError("disposed", "this view was disposed");
+  }
+}
