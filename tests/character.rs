@@ -403,3 +403,39 @@ fn a_character_document_round_trips_and_plays_glued_with_a_keyed_draw_order() {
     bad_order.draw_order_track = Some(DrawOrderTrackJson { times: vec![1.0], orders: vec![vec![1, 1, 2]] });
     assert!(Player::new(bad_order).unwrap_err().to_string().contains("drawOrderTrack.orders[0]"));
 }
+
+#[test]
+fn blends_of_glued_poses_keep_the_joints_closed() {
+    use bunraku::blend::{BlendOptions, Blender};
+    let c = Character::from_layers(&figure(), &options(6.0)).unwrap();
+    // Poses of the injective method (a two-step pose of a far drag folds a triangle).
+    let rest = c.rest(method_options(Method::Injective)).unwrap();
+    let poses: Vec<Vec<[f64; 2]>> = [[215.0, 10.0], [60.0, 250.0]]
+        .iter()
+        .map(|&to| {
+            let mut pinned = compile(&c, &rest);
+            drag(&mut pinned, to, 30)
+        })
+        .collect();
+    let gap = |x: &[[f64; 2]]| bunraku::deform::glue_gap(c.glue_rows(), |v| x[v as usize]);
+    for p in &poses {
+        assert!(gap(p) <= 0.01);
+    }
+    let blend = |glue: &[bunraku::deform::GlueRow]| {
+        let mut b = Blender::from_mesh_glued(c.mesh().clone(), glue, BlendOptions::default()).unwrap();
+        for p in &poses {
+            b.add_pose(p).unwrap();
+        }
+        let mut worst = 0.0f64;
+        for w in [0.0, 0.25, 0.5, 0.75, 1.0] {
+            let mut out = vec![[0.0; 2]; c.mesh().vertices().len()];
+            b.blend_into(&[1.0 - w, w], &mut out).unwrap();
+            worst = worst.max(gap(&out));
+        }
+        worst
+    };
+    let glued = blend(c.glue_rows());
+    let loose = blend(&[]);
+    assert!(glued <= 0.5, "glued blends open the joint by {glued} px");
+    assert!(loose > 5.0 * glued.max(0.01), "without the glue rows the parts drift apart: {loose} px");
+}

@@ -126,49 +126,73 @@ impl Atlas {
     }
 }
 
-/// `rgba` (straight alpha, `w × h`) with the colour of each transparent texel replaced by
-/// the mean colour of its opaque 8-neighbours, [`DILATION`] rings deep (alpha unchanged):
-/// filtering then mixes an edge texel only with colours like its own.
+/// `rgba` (straight alpha, `w × h`) with the colour of each transparent texel within
+/// [`DILATION`] texels of an opaque one replaced by the mean colour of its 8-neighbours
+/// coloured before it (alpha unchanged), ring by ring outwards: filtering then mixes an edge
+/// texel only with colours like its own. The first ring is found by one sweep (a 3 × 3 box
+/// "any opaque" as a row pass and a column pass); each later ring from the one before, so
+/// the cost beyond the sweep follows the outline, not the transparent area (measured: the
+/// former whole-picture passes took three quarters of `Character.fromLayers` on a
+/// 2048 × 2048 PSD of 20 layers).
 fn dilated(rgba: &[u8], w: usize, h: usize) -> Vec<u8> {
     let mut out = rgba.to_vec();
     let mut known: Vec<bool> = rgba.chunks_exact(4).map(|p| p[3] > 0).collect();
+    let neighbours = |i: usize| {
+        let (x, y) = ((i % w) as i64, (i / w) as i64);
+        [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)]
+            .into_iter()
+            .map(move |(dx, dy)| (x + dx, y + dy))
+            .filter(|&(nx, ny)| nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64)
+            .map(|(nx, ny)| ny as usize * w + nx as usize)
+    };
+    // Ring 1: transparent texels with an opaque texel in their 3 × 3 box.
+    let row_any: Vec<bool> = (0..w * h)
+        .map(|i| {
+            let x = i % w;
+            known[i] || (x > 0 && known[i - 1]) || (x + 1 < w && known[i + 1])
+        })
+        .collect();
+    let mut ring: Vec<usize> = (0..w * h)
+        .filter(|&i| {
+            !known[i] && (row_any[i] || (i >= w && row_any[i - w]) || (i + w < w * h && row_any[i + w]))
+        })
+        .collect();
+    let mut queued = vec![false; if ring.is_empty() { 0 } else { w * h }];
+    for &i in &ring {
+        queued[i] = true;
+    }
     for _ in 0..DILATION {
-        let mut next = known.clone();
-        let mut changed = false;
-        for y in 0..h {
-            for x in 0..w {
-                if known[y * w + x] {
-                    continue;
-                }
-                let mut sum = [0u32; 3];
-                let mut count = 0;
-                for (dx, dy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                    if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                        continue;
-                    }
-                    let k = ny as usize * w + nx as usize;
-                    if known[k] {
-                        for c in 0..3 {
-                            sum[c] += out[k * 4 + c] as u32;
-                        }
-                        count += 1;
-                    }
-                }
-                if count == 0 {
-                    continue;
-                }
-                for c in 0..3 {
-                    out[(y * w + x) * 4 + c] = (sum[c] / count) as u8;
-                }
-                next[y * w + x] = true;
-                changed = true;
-            }
-        }
-        known = next;
-        if !changed {
+        if ring.is_empty() {
             break;
         }
+        // Every texel of the ring takes the colours known before the ring.
+        let colours: Vec<(usize, [u8; 3])> = ring
+            .iter()
+            .map(|&i| {
+                let (mut sum, mut count) = ([0u32; 3], 0u32);
+                for k in neighbours(i).filter(|&k| known[k]) {
+                    for (c, s) in sum.iter_mut().enumerate() {
+                        *s += out[k * 4 + c] as u32;
+                    }
+                    count += 1;
+                }
+                (i, sum.map(|s| (s / count.max(1)) as u8))
+            })
+            .collect();
+        for (i, c) in colours {
+            out[i * 4..i * 4 + 3].copy_from_slice(&c);
+            known[i] = true;
+        }
+        let mut next = Vec::with_capacity(ring.len() + 8);
+        for &i in &ring {
+            for k in neighbours(i) {
+                if !known[k] && !queued[k] {
+                    queued[k] = true;
+                    next.push(k);
+                }
+            }
+        }
+        ring = next;
     }
     out
 }
@@ -233,6 +257,75 @@ mod tests {
         }
         assert_eq!(atlas.alpha(2, 3, 3), 128);
         assert_eq!(atlas.alpha(2, -1, 3), 0);
+    }
+
+    /// The dilation as first written: every pass looks at every texel.
+    fn reference_dilated(rgba: &[u8], w: usize, h: usize) -> Vec<u8> {
+        let mut out = rgba.to_vec();
+        let mut known: Vec<bool> = rgba.chunks_exact(4).map(|p| p[3] > 0).collect();
+        for _ in 0..DILATION {
+            let before = known.clone();
+            for y in 0..h {
+                for x in 0..w {
+                    if before[y * w + x] {
+                        continue;
+                    }
+                    let (mut sum, mut count) = ([0u32; 3], 0u32);
+                    for dy in -1i64..=1 {
+                        for dx in -1i64..=1 {
+                            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                            if (dx, dy) == (0, 0) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                                continue;
+                            }
+                            let k = ny as usize * w + nx as usize;
+                            if before[k] {
+                                for c in 0..3 {
+                                    sum[c] += out[k * 4 + c] as u32;
+                                }
+                                count += 1;
+                            }
+                        }
+                    }
+                    if count == 0 {
+                        continue;
+                    }
+                    for c in 0..3 {
+                        out[(y * w + x) * 4 + c] = (sum[c] / count) as u8;
+                    }
+                    known[y * w + x] = true;
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_ring_dilation_is_the_whole_picture_one() {
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 33) as u32
+        };
+        for (w, h) in [(1, 1), (7, 1), (1, 9), (23, 17), (40, 31)] {
+            for density in [0, 1, 5, 50] {
+                let rgba: Vec<u8> = (0..w * h)
+                    .flat_map(|_| {
+                        let opaque = next() % 100 < density;
+                        [
+                            next() as u8,
+                            next() as u8,
+                            next() as u8,
+                            if opaque { 1 + next() as u8 % 255 } else { 0 },
+                        ]
+                    })
+                    .collect();
+                assert_eq!(
+                    dilated(&rgba, w, h),
+                    reference_dilated(&rgba, w, h),
+                    "{w} × {h}, {density} % opaque"
+                );
+            }
+        }
     }
 
     #[test]

@@ -392,14 +392,18 @@ impl JsPlayer {
     /// draw order's last key at or before `t`, with `loop` as for the positions), or `null`
     /// for a document of one picture. Draw the parts (the document's `parts`, their
     /// `triangles` ranges) in this order. Throws `bad-type`, `bad-time`.
-    #[wasm_bindgen(js_name = drawOrderAt)]
+    #[wasm_bindgen(js_name = drawOrderAt, unchecked_return_type = "Uint32Array | null")]
     pub fn draw_order_at(
         &self,
         #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
-    ) -> Result<Option<Uint32Array>, Thrown> {
+    ) -> Result<JsValue, Thrown> {
         let t = t.as_f64().ok_or_else(|| bad_type("t", "a number", &t))?;
-        let order = self.player.draw_order_at(t)?;
-        Ok(order.map(|o| o.iter().map(|&k| k as u32).collect::<Vec<u32>>()[..].into()))
+        Ok(match self.player.draw_order_at(t)? {
+            Some(order) => {
+                Uint32Array::from(&order.iter().map(|&k| k as u32).collect::<Vec<u32>>()[..]).into()
+            }
+            None => JsValue::NULL,
+        })
     }
 
     /// The animation's length in seconds.

@@ -30,6 +30,9 @@ export interface CompileOptions {
    *  4% of the shape's diameter (the diagonal of its bounding box), at most 0.45 of the distance to
    *  the nearest other pin, so that a turned pin turns the neighbourhood it holds. */
   radius?: number | Float64Array;
+  /** A layered character's puppet (`character.puppet()`) only: one part index per pin, or `-1` for
+   *  the topmost part in the draw order whose opaque pixels hold the pin (the default). */
+  parts?: number[];
 }
 
 /** A stiffer region (`Puppet.setStarch`; After Effects' Starch pin). Amounts of overlapping

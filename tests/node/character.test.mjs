@@ -5,7 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Character } from "bunraku";
+import { initSync, Character, Player, Track } from "bunraku";
 import { layersFromImages } from "bunraku/layers";
 import { buildGL } from "../../scripts/build-gl.mjs";
 
@@ -224,4 +224,40 @@ test("a large character gets a simulation mesh per part, glued the same", () => 
   assert.ok(puppet.glueGap <= 0.5, `joint gap ${puppet.glueGap}`);
   puppet.free();
   c.free();
+});
+
+test("a character document plays glued, with a keyed draw order, and round-trips", () => {
+  const c = Character.fromLayers(figure(), { spacing: 6, simulationVertices: 0 });
+  const doc = c.toDocument();
+  assert.deepEqual(doc.parts.map((p) => p.name), ["torso", "arm", "head"]);
+  assert.deepEqual(doc.drawOrder, [0, 1, 2]);
+  assert.ok(doc.glue.rows.terms.length > 0);
+  const track = new Track(5);
+  for (let k = 0; k <= 10; k++) {
+    const f = k / 10;
+    track.record(f, new Float64Array([...TORSO.flat(), HAND[0] + f * (215 - HAND[0]), HAND[1] + f * (10 - HAND[1])]));
+  }
+  Object.assign(doc, {
+    pins: { points: [...TORSO, HAND].flat(), parts: [0, 0, 0, 0, 1] },
+    puppet: { method: "two-step" },
+    track: track.toJSON(),
+    drawOrderTrack: { times: [0.5], orders: [[1, 0, 2]] },
+  });
+  const player = Player.load(doc);
+  assert.deepEqual([...player.drawOrderAt(0.2)], [0, 1, 2]);
+  assert.deepEqual([...player.drawOrderAt(0.5)], [1, 0, 2], "the key swaps the arm behind the torso");
+  const end = player.positionsAt(1);
+  const [first, count] = c.parts[1].vertices;
+  let top = Infinity;
+  for (let i = first; i < first + count; i++) top = Math.min(top, end[2 * i + 1]);
+  assert.ok(top < 30, `the arm rose to ${top}`);
+  const again = Player.load(JSON.stringify(player));
+  assert.deepEqual(again.toJSON(), player.toJSON());
+  const { parts, glue, drawOrder, drawOrderTrack, ...flat } = doc;
+  assert.ok(parts && glue && drawOrder && drawOrderTrack);
+  const one = Player.load({ ...flat, pins: { points: doc.pins.points } });
+  assert.equal(one.drawOrderAt(0), null, "a document without parts is one picture");
+  one.free();
+  assert.throws(() => Player.load({ ...doc, drawOrderTrack: { times: [0.5], orders: [[1, 1, 2]] } }), (e) => e.code === "bad-document" && /drawOrderTrack\.orders\[0\]/.test(e.message));
+  for (const x of [player, again, track, c]) x.free();
 });
