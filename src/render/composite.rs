@@ -3,6 +3,8 @@
 
 use super::coverage::{Coverage, Region};
 use super::raster::div255;
+use super::LevelStyle;
+use crate::character::BlendMode;
 
 /// Step 3 of the module docs: `out = demultiply(layer · coverage + background · (1 − α))`,
 /// the coverage of each pixel being the running sum of its row's cells; outside `region`,
@@ -59,6 +61,23 @@ pub(super) fn composite(
     }
 }
 
+/// The premultiplied colour `s` blended over `d` by `mode` ([`LevelStyle::blend`]), each
+/// channel in 0–255, alpha by the same formula as the colours (normal and screen:
+/// `αs + αd − αs·αd`; multiply: `αd`, so it leaves nothing over transparency; additive:
+/// `αs + αd`, clamped).
+fn blend(mode: BlendMode, s: [u32; 4], d: [u8; 4]) -> [u8; 4] {
+    let d = d.map(u32::from);
+    let over = |k: usize| s[k] + div255(d[k] * (255 - s[3]));
+    let c = |k: usize| match mode {
+        BlendMode::Normal => over(k),
+        // WebGL's blendFunc(DST_COLOR, ONE_MINUS_SRC_ALPHA), alpha included: αs·αd + αd(1 − αs).
+        BlendMode::Multiply => div255(s[k] * d[k]) + div255(d[k] * (255 - s[3])),
+        BlendMode::Screen => s[k] + d[k] - div255(s[k] * d[k]),
+        BlendMode::Additive => s[k] + d[k],
+    };
+    [0, 1, 2, 3].map(|k| c(k).min(255) as u8)
+}
+
 /// The background premultiplied, as the layered frame holds it.
 pub(super) fn premultiplied(background: [u8; 4]) -> u32 {
     let a = background[3] as u32;
@@ -75,8 +94,10 @@ pub(super) fn composite_over(
     coverage: &Coverage,
     own: &Region,
     from_x: usize,
+    style: LevelStyle,
     frame: &mut [u32],
 ) {
+    let opacity = style.opacity.clamp(0.0, 1.0);
     let (width, stride) = (coverage.width, coverage.stride());
     let (x0, x1) = (own.x0, own.x1.min(width));
     if x0 >= x1 {
@@ -96,16 +117,13 @@ pub(super) fn composite_over(
             if l == 0 {
                 continue;
             }
-            let m = (sum.abs().min(1.0) * 255.0 + 0.5) as u32;
+            let m = (sum.abs().min(1.0) * opacity * 255.0 + 0.5) as u32;
             let l = l.to_le_bytes();
-            if m == 255 && l[3] == 255 {
+            if m == 255 && l[3] == 255 && style.blend == BlendMode::Normal {
                 *f = u32::from_le_bytes(l);
                 continue;
             }
-            let inv = 255 - div255(l[3] as u32 * m);
-            let b = f.to_le_bytes();
-            let c = |k: usize| (div255(l[k] as u32 * m) + div255(b[k] as u32 * inv)).min(255) as u8;
-            *f = u32::from_le_bytes([c(0), c(1), c(2), c(3)]);
+            *f = u32::from_le_bytes(blend(style.blend, l.map(|x| div255(x as u32 * m)), f.to_le_bytes()));
         }
     }
 }

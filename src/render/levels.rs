@@ -30,9 +30,10 @@ impl Renderer {
         triangles: &[[u32; 3]],
         uvs: &[[f32; 2]],
         region: &Region,
-        background: [u8; 4],
+        options: &super::RenderOptions,
         out: &mut [u8],
     ) {
+        let background = options.background;
         let (w, h) = (self.coverage.width, self.coverage.height);
         let (order, levels) = (&self.depth, &mut self.levels);
         let count = order.levels();
@@ -108,7 +109,8 @@ impl Renderer {
                     }
                 }
             }
-            composite_over(&self.layer, &self.coverage, &own, union.x0, &mut levels.frame);
+            let style = options.styles.get(l).copied().unwrap_or_default();
+            composite_over(&self.layer, &self.coverage, &own, union.x0, style, &mut levels.frame);
             let stride = self.coverage.stride();
             for j in own.y0..own.y1 {
                 self.layer[j * w + own.x0..j * w + own.x1.min(w)].fill(0);

@@ -133,6 +133,7 @@ mod overlay;
 mod painter;
 mod raster;
 
+pub use crate::character::BlendMode;
 use crate::error::{Error, Result};
 use crate::limits::size_allowed;
 use composite::composite;
@@ -175,6 +176,29 @@ pub struct RenderOptions {
     /// What to draw over the frame: pins, wireframe, outline, starch, depth shading (see
     /// [`Overlays`]). Default: nothing.
     pub overlays: Overlays,
+    /// How each depth level is composited over the levels behind it, back to front: one
+    /// [`LevelStyle`] per distinct depth (a layered character: its parts, each its own
+    /// level, [`crate::character`]). Empty (the default): every level normal and opaque.
+    /// Needs [`RenderOptions::depth`].
+    pub styles: Vec<LevelStyle>,
+}
+
+/// How one depth level is composited ([`RenderOptions::styles`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelStyle {
+    /// 0 to 1: multiplies the level's premultiplied colour.
+    pub opacity: f32,
+    /// The blend function, on premultiplied colours `s` (the level) over `d` (the frame):
+    /// normal `s + d(1 − αs)`, multiply `s·d + d(1 − αs)` (nothing over transparency),
+    /// screen `s + d − s·d`, additive `s + d` clamped: what `bunraku/gl`'s character views
+    /// draw with WebGL's blend functions.
+    pub blend: BlendMode,
+}
+
+impl Default for LevelStyle {
+    fn default() -> Self {
+        LevelStyle { opacity: 1.0, blend: BlendMode::Normal }
+    }
 }
 
 impl Default for RenderOptions {
@@ -184,6 +208,7 @@ impl Default for RenderOptions {
             background: [0; 4],
             depth: None,
             overlays: Overlays::default(),
+            styles: Vec::new(),
         }
     }
 }
@@ -209,6 +234,12 @@ impl RenderOptions {
     /// Sets [`RenderOptions::depth`]: one depth per triangle.
     pub fn with_depth(mut self, depth: impl Into<Vec<f64>>) -> RenderOptions {
         self.depth = Some(depth.into());
+        self
+    }
+
+    /// Sets [`RenderOptions::styles`]: one per depth level.
+    pub fn with_styles(mut self, styles: impl Into<Vec<LevelStyle>>) -> RenderOptions {
+        self.styles = styles.into();
         self
     }
 
@@ -370,8 +401,17 @@ impl Renderer {
         if let Some(depth) = &options.depth {
             self.depth.update(depth, triangles);
         }
-        if options.depth.is_some() && self.depth.levels() > 1 {
-            self.draw_levels(triangles, uvs, &region, options.background, out);
+        if options.depth.is_some() && (self.depth.levels() > 1 || !options.styles.is_empty()) {
+            let levels = self.depth.levels();
+            if !options.styles.is_empty() && options.styles.len() != levels {
+                // Checked before anything is drawn: `out` is untouched.
+                return Err(Error::CountMismatch {
+                    what: "styles (one per depth level)",
+                    got: options.styles.len(),
+                    expected: levels,
+                });
+            }
+            self.draw_levels(triangles, uvs, &region, options, out);
         } else {
             self.draw_layer(triangles, uvs, w, h);
             self.draw_coverage(triangles);
@@ -417,6 +457,18 @@ impl Renderer {
         }
         crate::error::check_finite("positions", positions)?;
         crate::error::check_finite("uvs", uvs)?;
+        if let Some(k) = options.styles.iter().position(|s| !(0.0..=1.0).contains(&s.opacity)) {
+            let value = Some(options.styles[k].opacity as f64);
+            return Err(Error::BadOption {
+                name: "styles",
+                value,
+                reason: format!("(level {k}'s opacity) is not from 0 to 1"),
+            });
+        }
+        if !options.styles.is_empty() && options.depth.is_none() {
+            let reason = "need depth: one style per depth level".to_string();
+            return Err(Error::BadOption { name: "styles", value: None, reason });
+        }
         if let Some(depth) = &options.depth {
             if depth.len() != triangles.len() {
                 return Err(Error::CountMismatch {

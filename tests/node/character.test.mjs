@@ -5,7 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Character, Player, Track } from "bunraku";
+import { initSync, Character, Player, Renderer, Track } from "bunraku";
 import { layersFromImages } from "bunraku/layers";
 import { buildGL } from "../../scripts/build-gl.mjs";
 
@@ -260,4 +260,42 @@ test("a character document plays glued, with a keyed draw order, and round-trips
   one.free();
   assert.throws(() => Player.load({ ...doc, drawOrderTrack: { times: [0.5], orders: [[1, 1, 2]] } }), (e) => e.code === "bad-document" && /drawOrderTrack\.orders\[0\]/.test(e.message));
   for (const x of [player, again, track, c]) x.free();
+});
+
+test("the atlas never bleeds: each part drawn alone shows only its own colour, at any scale", () => {
+  const c = Character.fromLayers(figure(), { spacing: 6, simulationVertices: 0 });
+  const { data, width, height } = c.atlas;
+  const renderer = new Renderer(data, width, height);
+  const colours = [[200, 60, 60], [60, 60, 200], [60, 200, 60]];
+  const all = c.triangles;
+  const mesh = c.puppet({ method: "two-step" });
+  const triangles = mesh.triangles; // the mesh's order: part ranges index it
+  for (const [k, part] of c.parts.entries()) {
+    const [first, count] = part.triangles;
+    const own = triangles.subarray(3 * first, 3 * (first + count));
+    for (const scale of [1, 0.25]) {
+      const frame = renderer.render(c.vertices, own, c.uvs, Math.ceil(320 * scale), Math.ceil(300 * scale), { transform: [scale, 0, 0, scale, 0, 0] });
+      let drawn = 0;
+      for (let i = 0; i < frame.length; i += 4) {
+        if (frame[i + 3] === 0) continue;
+        drawn++;
+        const off = Math.max(...[0, 1, 2].map((j) => Math.abs(frame[i + j] - colours[k][j])));
+        assert.ok(off <= 2, `part ${k} at scale ${scale}: pixel ${i / 4} is [${[...frame.subarray(i, i + 4)]}]`);
+      }
+      assert.ok(drawn > 20 * scale * scale, `part ${k} drew ${drawn} pixels`);
+    }
+  }
+  assert.equal(all.length, triangles.length);
+  // Drawn as a whole, part by part (depth = draw rank), with the front part at half opacity.
+  const rank = c.drawOrder.map((name) => c.parts.findIndex((p) => p.name === name));
+  const depth = new Float64Array(rank.flatMap((k, level) => new Array(c.parts[k].triangles[1]).fill(level)));
+  const styles = [{}, { opacity: 0.5 }, {}];
+  const frame = renderer.render(c.vertices, all, c.uvs, 320, 300, { depth, styles, background: [255, 255, 255, 255] });
+  const at = (x, y) => [...frame.subarray((y * 320 + x) * 4, (y * 320 + x) * 4 + 4)];
+  const half = at(170, 147); // the arm at half opacity over the torso
+  assert.ok(Math.abs(half[0] - 130) <= 3 && Math.abs(half[2] - 130) <= 3, `${half}`);
+  assert.throws(() => renderer.render(c.vertices, all, c.uvs, 320, 300, { depth, styles: [{}] }), (e) => e.code === "bad-length");
+  renderer.free();
+  mesh.free();
+  c.free();
 });

@@ -8,7 +8,9 @@ use wasm_bindgen::{JsCast, JsValue};
 use super::super::errors::{bad_option, describe, wrong_option_type, Thrown};
 use super::super::{read_items, TypedArray};
 use super::Fields;
-use crate::render::{DepthOverlay, Line, Overlays, PinGlyph, PinOverlay, RenderOptions, StarchOverlay};
+use crate::render::{
+    BlendMode, DepthOverlay, LevelStyle, Line, Overlays, PinGlyph, PinOverlay, RenderOptions, StarchOverlay,
+};
 use crate::Error;
 
 #[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
@@ -31,6 +33,12 @@ export interface RenderOptions {
   /** What to draw over the frame (pins, wireframe, outline, starch, depth shading), e.g. for an exported frame.
    *  Default: nothing. */
   overlays?: Overlays;
+  /** How each depth level is composited over those behind it, back to front: one per distinct `depth` value
+   *  (a layered character drawn with each part's draw rank as its triangles' depth: its parts' `opacity` and
+   *  `blendMode`). `opacity` 0–1 (default 1); `blendMode` `"normal"` (default), `"multiply"` (nothing over
+   *  transparency), `"screen"` or `"additive"`, as `bunraku/gl`'s `CharacterView` draws them. Needs `depth`.
+   *  Errors: `bad-length` (not one per level), `bad-option`. */
+  styles?: { opacity?: number; blendMode?: "normal" | "multiply" | "screen" | "additive" }[];
 }
 
 /** A straight `[r, g, b, a]` colour, integers 0–255. */
@@ -110,6 +118,8 @@ pub(crate) struct RenderBuffers {
     pub(crate) depth: Vec<f64>,
     /// A `Float32Array` `depth`, before it is widened.
     depth32: Vec<f32>,
+    /// `styles` (moved into the options while a frame is drawn).
+    styles: Vec<LevelStyle>,
 }
 
 /// `Renderer.render`'s and `renderInto`'s options (every frame: nothing is allocated once
@@ -118,7 +128,7 @@ pub(crate) fn render_options(
     options: &JsValue,
     buffers: &mut RenderBuffers,
 ) -> Result<RenderOptions, Thrown> {
-    let fields = Fields::open(options, &["transform", "background", "depth", "overlays"])?;
+    let fields = Fields::open(options, &["transform", "background", "depth", "overlays", "styles"])?;
     let mut o = RenderOptions::default();
     if let Some(t) = fields.get("transform")? {
         // Non-finite values are the core's to name.
@@ -145,6 +155,30 @@ pub(crate) fn render_options(
             return Err(wrong_option_type("depth", "a Float32Array or a Float64Array", &d));
         }
         o.depth = Some(std::mem::take(depth));
+    }
+    if let Some(v) = fields.get("styles")? {
+        let array = v.dyn_ref::<Array>().ok_or_else(|| wrong_option_type("styles", "an array", &v))?;
+        let styles = &mut buffers.styles;
+        styles.clear();
+        for k in 0..array.length() {
+            let item = array.get(k);
+            let field = nested(&format!("styles[{k}]"), &item, &["opacity", "blendMode"])?;
+            let mut style = LevelStyle {
+                opacity: field.number("opacity")?.unwrap_or(1.0) as f32,
+                ..LevelStyle::default()
+            };
+            if let Some(m) = field.get("blendMode")? {
+                style.blend = m.as_string().and_then(|n| BlendMode::from_name(&n)).ok_or_else(|| {
+                    let reason = format!(
+                        "{} is not \"normal\", \"multiply\", \"screen\" or \"additive\"",
+                        describe(&m)
+                    );
+                    bad_option(&format!("styles[{k}].blendMode"), &m, &reason)
+                })?;
+            }
+            styles.push(style);
+        }
+        o.styles = std::mem::take(styles);
     }
     Ok(o)
 }
@@ -329,6 +363,7 @@ impl RenderBuffers {
         if let Some(depth) = options.depth {
             self.depth = depth;
         }
+        self.styles = options.styles;
     }
 }
 
