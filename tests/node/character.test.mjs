@@ -279,8 +279,9 @@ test("the atlas never bleeds: each part drawn alone shows only its own colour, a
       for (let i = 0; i < frame.length; i += 4) {
         if (frame[i + 3] === 0) continue;
         drawn++;
+        // Straight colours of faint edge pixels carry the demultiplication's rounding, 255/α.
         const off = Math.max(...[0, 1, 2].map((j) => Math.abs(frame[i + j] - colours[k][j])));
-        assert.ok(off <= 2, `part ${k} at scale ${scale}: pixel ${i / 4} is [${[...frame.subarray(i, i + 4)]}]`);
+        assert.ok(off <= 2 + 255 / frame[i + 3], `part ${k} at scale ${scale}: pixel ${i / 4} is [${[...frame.subarray(i, i + 4)]}]`);
       }
       assert.ok(drawn > 20 * scale * scale, `part ${k} drew ${drawn} pixels`);
     }

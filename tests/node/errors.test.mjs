@@ -170,7 +170,7 @@ code("bad-option", () => {
   throws(() => r.render(...args, { transform: [1, 0, 0, NaN, 0, 0] }), "bad-option", { option: "transform", value: NaN }, /^option transform: NaN \(item 3\) is not finite$/);
   throws(() => r.render(...args, { transform: [1, 0, 0, 1, 0, "x"] }), "bad-option", { option: "transform", value: "x", item: 5 }, /item 5 is not a number \("x"\)/);
   throws(() => r.render(...args, { background: [0, 0, 256, 0] }), "bad-option", { option: "background", value: 256, item: 2 }, /^option background: 256 \(item 2\) is not an integer from 0 to 255$/);
-  throws(() => r.render(...args, { backgroud: [0, 0, 0, 0] }), "bad-option", { option: "backgroud" }, /unknown option "backgroud" \(known: transform, background, depth, overlays\)/);
+  throws(() => r.render(...args, { backgroud: [0, 0, 0, 0] }), "bad-option", { option: "backgroud" }, /unknown option "backgroud" \(known: transform, background, depth, overlays, styles\)/);
   assert.equal(r.render(...args).length, 16);
   r.free();
 });
