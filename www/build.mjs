@@ -8,8 +8,10 @@
 //      www/tsconfig.worker.json for the worker)
 //   2. bundles www/src/main.ts (the page) and www/src/worker.ts (the module worker that
 //      owns the puppets) with esbuild into main.js and worker.js (ES modules, source maps);
-//      the page's WebGL2 drawing is the package's own helper, bundled from js/gl.ts (and js/gl/)
-//   3. copies index.html, style.css, the default puppet (assets/gingerbread.png) and the
+//      the page's WebGL2 drawing is the package's own helper, bundled from js/gl.ts (and js/gl/);
+//      the layer readers (js/layers.ts, js/psd.ts) are split into chunks loaded on demand
+//   3. copies index.html, style.css, the default puppet (assets/gingerbread.png), the
+//      layered sample character (assets/character.psd) and the
 //      wasm module (pkg/bunraku_bg.wasm, which the worker and the Canvas 2D fallback
 //      load) next to the bundles
 // Each folder is skipped when it is newer than all of its inputs (pass --force to build
@@ -49,6 +51,8 @@ const COPIES = [
   [join(www, "index.html"), "index.html"],
   [join(www, "style.css"), "style.css"],
   [join(root, "assets", "gingerbread.png"), "gingerbread.png"],
+  // The layered sample character (scripts/make-sample-character.mjs).
+  [join(root, "assets", "character.psd"), "character.psd"],
   [join(root, "pkg", "bunraku_bg.wasm"), "bunraku_bg.wasm"],
 ];
 
@@ -66,6 +70,11 @@ function inputs() {
     join(root, "js", "index.ts"),
     join(root, "js", "gl.ts"),
     ...filesUnder(join(root, "js", "gl")),
+    // The layer readers (`bunraku/layers`, `bunraku/psd`), for layered characters.
+    join(root, "js", "layers.ts"),
+    ...filesUnder(join(root, "js", "layers")),
+    join(root, "js", "psd.ts"),
+    ...filesUnder(join(root, "js", "psd")),
     ...COPIES.map(([source]) => source),
     join(www, "tsconfig.json"),
     join(www, "tsconfig.worker.json"),
@@ -108,6 +117,11 @@ async function bundle({ dir, test }, log) {
     outdir: dir,
     bundle: true,
     format: "esm",
+    // The layer readers (ag-psd and pako among them) load only when a layered character is
+    // opened: a chunk of their own, beside the bundles, as is code the page and the worker
+    // share.
+    splitting: true,
+    chunkNames: "chunk-[hash]",
     // Module workers: Chrome 80, Firefox 114, Safari 15.
     target: ["es2022", "chrome100", "firefox114", "safari16"],
     define: { __TEST__: String(test) },

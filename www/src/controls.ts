@@ -1,5 +1,5 @@
-// The toolbar and the page as a drop target: open a picture (file picker or drag and
-// drop), the detail (the mesh's vertices, a log-scale slider: detail.ts), the method, the kind of new pins, the tool (pins, starch, overlap)
+// The toolbar and the page as a drop target: open a picture, or the files of a layered
+// character (file picker or drag and drop), the detail (the mesh's vertices, a log-scale slider: detail.ts), the method, the kind of new pins, the tool (pins, starch, overlap)
 // with the starch amount and overlap depth of new regions, wireframe, simulation mesh and
 // pin toggles, reset pose, export PNG (with or without the overlays).
 
@@ -9,7 +9,9 @@ import type { Tool } from "./pointer.js";
 import type { RegionKind } from "./regions.js";
 
 export interface ControlActions {
-  openFile(file: File): void;
+  /** The files chosen or dropped: one picture, or a PSD, a layered SVG or several
+   *  pictures (a layered character). */
+  openFiles(files: File[]): void;
   /** Resolves to false when the detail was refused (the slider goes back). */
   setDensity(vertices: number): Promise<boolean>;
   /** Resolves to false when the method was refused (the selector goes back). */
@@ -60,8 +62,8 @@ export function sliderDetail(density: HTMLInputElement): number {
 
 export function attachControls(el: ControlElements, actions: ControlActions): Controls {
   el.file.addEventListener("change", () => {
-    const file = el.file.files?.[0];
-    if (file) actions.openFile(file);
+    const files = [...(el.file.files ?? [])];
+    if (files.length) actions.openFiles(files);
     el.file.value = ""; // choosing the same file again loads it again
   });
 
@@ -143,8 +145,8 @@ export function attachControls(el: ControlElements, actions: ControlActions): Co
     e.preventDefault(); // never let the browser navigate to the file
     depth = 0;
     el.dropZone.classList.remove("dragging");
-    const file = e.dataTransfer?.files[0];
-    if (file) actions.openFile(file);
+    const files = [...(e.dataTransfer?.files ?? [])];
+    if (files.length) actions.openFiles(files);
   });
 
   return {

@@ -6,6 +6,7 @@
 // (www/dist/) carries none of this.
 
 import type { App } from "./app.js";
+import { SAMPLE_CHARACTER, type CharacterStage } from "./character.js";
 import type { PuppetWorker } from "./client.js";
 import type { FrameRecord } from "./frames.js";
 import type { Overlay } from "./overlay.js";
@@ -70,6 +71,39 @@ export interface DemoHook {
   playing(): boolean;
   /** How many playbacks have ended or been stopped. */
   playsEnded(): number;
+  /** The layered character (character.ts). */
+  character: CharacterHook;
+}
+
+/** The layered character as the tests see it; points in viewport CSS pixels unless said. */
+export interface CharacterHook {
+  /** Opens the sample character (as its button does); resolves to whether it opened. */
+  openSample(): Promise<boolean>;
+  /** The character shown, or null: its parts (in the layers' order), draw order (bottom
+   *  first), vertex count, pins (target on screen, part), glue discs (rest canvas pixels),
+   *  the last update's joint gap, and how many times the glue was set. */
+  state(): {
+    name: string;
+    parts: string[];
+    drawOrder: string[];
+    vertices: number;
+    pins: { id: number; part: string; x: number; y: number; rest: [number, number] }[];
+    glue: { upper: string; lower: string; at: [number, number]; radius: number; weight: number }[];
+    glueGap: number;
+    glueSets: number;
+  } | null;
+  /** The character's canvas pixels at rest → viewport CSS pixels. */
+  toClient(x: number, y: number): [number, number];
+  /** Where rest point (x, y) of `part` is drawn now, or null when the part does not hold it. */
+  follow(part: string, x: number, y: number): [number, number] | null;
+  /** Sets the draw order (part names, bottom first). */
+  setDrawOrder(order: string[]): void;
+  /** Drags pin `id` in a straight line to viewport point `to` over `frames` animation
+   *  frames (one target a frame), and returns the frames' requestAnimationFrame
+   *  timestamps (ms). */
+  dragFrames(id: number, to: [number, number], frames: number): Promise<number[]>;
+  /** The character's recent frames: rAF timestamp, update and whole-callback times (ms). */
+  frames(): { time: number; solveMs: number; workMs: number }[];
 }
 
 declare global {
@@ -78,7 +112,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -118,7 +152,7 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     frames: () => app.frames.history(),
     clearFrames: () => app.frames.clearHistory(),
     pending: () => app.pending(),
-    settled: () => app.settled(),
+    settled: () => app.settled().then(() => characters.settled()),
     crashWorker: () => void worker.call("crash", null),
     positions: () => {
       const rig = app.current?.rig;
@@ -132,5 +166,57 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     recording: () => app.recording,
     playing: () => app.playing,
     playsEnded: () => app.playsEnded,
+    character: characterHook(characters),
+  };
+}
+
+function characterHook(characters: CharacterStage): CharacterHook {
+  const canvas = (): HTMLElement => document.getElementById("character-stage") ?? document.body;
+  const client = ([x, y]: [number, number]): [number, number] => {
+    const r = canvas().getBoundingClientRect();
+    return [r.left + x, r.top + y];
+  };
+  return {
+    openSample: () => characters.openURL(SAMPLE_CHARACTER.url, SAMPLE_CHARACTER.name, SAMPLE_CHARACTER.pins),
+    state: () => {
+      if (!characters.active || characters.name === null) return null;
+      return {
+        name: characters.name,
+        parts: [...characters.partList],
+        drawOrder: characters.drawOrder,
+        vertices: characters.vertexCount,
+        pins: characters.pinList().map((p) => {
+          const [x, y] = client(characters.view.toStage(...p.target));
+          return { id: p.id, part: p.part, x, y, rest: p.rest };
+        }),
+        glue: characters.glueDiscs(),
+        glueGap: characters.glueGap,
+        glueSets: characters.glueSets,
+      };
+    },
+    toClient: (x, y) => client(characters.view.toStage(x, y)),
+    follow: (part, x, y) => {
+      const at = characters.followOnPart(part, x, y);
+      return at ? client(at) : null;
+    },
+    setDrawOrder: (order) => characters.setDrawOrder(order),
+    frames: () => characters.frameRecords.map((r) => ({ ...r })),
+    dragFrames: (id, to, frames) =>
+      new Promise((resolve) => {
+        const pin = characters.pinList().find((p) => p.id === id);
+        if (!pin) return resolve([]);
+        const r = canvas().getBoundingClientRect();
+        const [x0, y0] = characters.view.toStage(...pin.target);
+        const [x1, y1] = [to[0] - r.left, to[1] - r.top];
+        const times: number[] = [];
+        const step = (time: number) => {
+          times.push(time);
+          const f = times.length / frames;
+          characters.dragTo(id, x0 + f * (x1 - x0), y0 + f * (y1 - y0));
+          if (times.length < frames) requestAnimationFrame(step);
+          else resolve(times);
+        };
+        requestAnimationFrame(step);
+      }),
   };
 }

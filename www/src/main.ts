@@ -4,6 +4,7 @@
 
 import { attachAnimation } from "./animation.js";
 import { App } from "./app.js";
+import { CharacterStage, layeredFiles, SAMPLE_CHARACTER } from "./character.js";
 import { PuppetWorker } from "./client.js";
 import { attachControls, download, sliderDetail } from "./controls.js";
 import { exposeHook } from "./hook.js";
@@ -52,6 +53,32 @@ async function main(status: Status): Promise<void> {
     method,
   });
   const theApp = app;
+  // Layered characters (character.ts): their own canvas over the stage, meshed and solved
+  // on this thread.
+  const characters = new CharacterStage(
+    {
+      canvas: element("character-stage", HTMLCanvasElement),
+      overlay: element("character-overlay", HTMLCanvasElement),
+      // The picture's stage, and the poses and animation, which act on pictures only.
+      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement)],
+      panel: element("character-panel", HTMLElement),
+      order: element("draw-order", HTMLOListElement),
+      showGlue: element("show-glue", HTMLInputElement),
+    },
+    status,
+    method,
+  );
+  characters.setShowPins(element("show-pins", HTMLInputElement).checked);
+  /** A character opened: the picture's board lets go of its selection (Delete acts on
+   *  the character's pins). */
+  const characterOpened = (ok: boolean | "not-layered") => {
+    if (ok === true) theApp.board.selected = null;
+    return ok;
+  };
+  element("open-sample", HTMLButtonElement).addEventListener("click", () => {
+    status.info(`reading the ${SAMPLE_CHARACTER.name}…`);
+    void characters.openURL(SAMPLE_CHARACTER.url, SAMPLE_CHARACTER.name, SAMPLE_CHARACTER.pins).then(characterOpened);
+  });
   // What a reload kept of the form.
   theApp.board.pinKind = PIN_KINDS.find((k) => k === pinKind.value) ?? "position";
   // ?simulation=1 shows the simulation mesh from the start.
@@ -61,6 +88,7 @@ async function main(status: Status): Promise<void> {
   const measure = () => {
     const r = wrap.getBoundingClientRect();
     theApp.resize(r.width, r.height, window.devicePixelRatio || 1);
+    characters.resize(r.width, r.height, window.devicePixelRatio || 1);
   };
   measure();
   new ResizeObserver(measure).observe(wrap);
@@ -88,22 +116,43 @@ async function main(status: Status): Promise<void> {
       dropZone: document.body,
     },
     {
-      openFile: (file) => {
-        status.info(`reading ${file.name}…`);
-        // The user's own picture opens at its full detail (detail.ts).
-        void theApp.openPicture(pictureFromFile(file), undefined, { fullDetail: true });
+      openFiles: (files) => {
+        const openPicture = (file: File) => {
+          status.info(`reading ${file.name}…`);
+          // The user's own picture opens at its full detail (detail.ts); once it is in, it
+          // takes the stage from a character.
+          void theApp.openPicture(pictureFromFile(file), undefined, { fullDetail: true }).then((ok) => ok && characters.close());
+        };
+        const [first] = files;
+        if (!first) return;
+        if (!layeredFiles(files)) return openPicture(first);
+        // A PSD, an SVG or several pictures: a layered character (an SVG with fewer than
+        // two top-level groups is a picture).
+        status.info(`reading ${files.length > 1 ? `${files.length} pictures` : first.name}…`);
+        void characters.openFiles(files).then((ok) => (characterOpened(ok) === "not-layered" ? openPicture(first) : undefined));
       },
       setDensity: (n) => theApp.setDensity(n),
-      setMethod: (m) => theApp.setMethod(m),
+      setMethod: (m) => {
+        characters.setMethod(m);
+        return theApp.setMethod(m);
+      },
       setPinKind: (kind) => (theApp.board.pinKind = kind),
       setTool: (tool) => theApp.board.setTool(tool),
       setAmount: (kind, value) => (theApp.board.amounts[kind] = value),
       clearRegions: () => theApp.board.clearRegions(),
       showWireframe: (on) => theApp.showWireframe(on),
       showSimulation: (on) => theApp.showSimulation(on),
-      showPins: (on) => theApp.showPins(on),
-      resetPose: () => theApp.resetPose(),
+      showPins: (on) => {
+        theApp.showPins(on);
+        characters.setShowPins(on);
+      },
+      resetPose: () => (characters.active ? characters.resetPose() : theApp.resetPose()),
       exportPNG: (overlays) => {
+        if (characters.active) {
+          const name = characters.name?.replace(/\.[^.]*$/, "") ?? "character";
+          characters.exportPNG().then((blob) => download(blob, `${name}-posed.png`), (e) => status.error(e));
+          return;
+        }
         const name = theApp.current?.picture.name.replace(/\.[^.]*$/, "") ?? "bunraku";
         theApp.exportPNG(overlays).then((blob) => download(blob, `${name}-posed.png`), (e) => status.error(e));
       },
@@ -137,7 +186,11 @@ async function main(status: Status): Promise<void> {
         void theApp.documentJSON().then((text) => {
           if (text !== null) download(new Blob([text], { type: "application/json" }), `${baseName()}.bunraku.json`);
         }),
-      openDocument: (file) => void file.text().then((text) => theApp.openDocument(text, file.name), (e: unknown) => status.error(e)),
+      openDocument: (file) =>
+        void file.text().then(
+          (text) => theApp.openDocument(text, file.name).then((ok) => ok && characters.close()),
+          (e: unknown) => status.error(e),
+        ),
       exportVideo: () =>
         void theApp.exportVideo().then((video) => {
           if (!video) return status.info("nothing to export: record a drag first");
@@ -149,7 +202,7 @@ async function main(status: Status): Promise<void> {
   theApp.onAnimationChange = () => refresh({ poseCount: theApp.poses.length, recording: theApp.recording, playing: theApp.playing, loop: theApp.loop });
   theApp.onAnimationChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
-  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay);
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 
