@@ -253,7 +253,20 @@ impl JsCharacter {
     /// point `(x, y)`: `{ part, name, point: [x, y] }`, or `null` (a point over a part's
     /// transparent margin does not pick it).
     #[wasm_bindgen(unchecked_return_type = "{ part: number; name: string; point: [number, number] } | null")]
-    pub fn pick(&self, x: f64, y: f64) -> Result<JsValue, Thrown> {
+    pub fn pick(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] x: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] y: JsValue,
+    ) -> Result<JsValue, Thrown> {
+        let mut point = [0.0; 2];
+        for (k, (name, v)) in [("x", &x), ("y", &y)].into_iter().enumerate() {
+            let value = v.as_f64().ok_or_else(|| bad_type(name, "a number", v))?;
+            if !value.is_finite() {
+                return Err(Error::NonFinite { what: "point", index: 0, flat: k, value }.into());
+            }
+            point[k] = value;
+        }
+        let [x, y] = point;
         let c = self.0.borrow()?;
         Ok(match c.pick([x, y]) {
             None => JsValue::NULL,
@@ -402,8 +415,13 @@ fn read_layers(value: &JsValue) -> Result<Vec<Layer>, Thrown> {
             &value,
             &["name", "group", "rect", "visible", "opacity", "blendMode", "clipping", "rgba"],
         )?;
-        let text = |key: &str| -> Result<String, Thrown> {
+        let text = |key: &'static str| -> Result<String, Thrown> {
             let v = fields.get(key)?.unwrap_or_else(|| "".into());
+            // A lone surrogate would become U+FFFD in Rust's string: saved differently.
+            if v.dyn_ref::<js_sys::JsString>().is_some_and(|s| !s.is_valid_utf16()) {
+                let reason = "holds a lone surrogate (text that is not valid UTF-16)".into();
+                return Err(Error::BadLayer { index, field: key, reason, too_large: false }.into());
+            }
             v.as_string().ok_or_else(|| bad_type(&path(key), "a string", &v))
         };
         let flag = |key: &str, default: bool| -> Result<bool, Thrown> {
