@@ -439,3 +439,21 @@ fn blends_of_glued_poses_keep_the_joints_closed() {
     assert!(glued <= 0.5, "glued blends open the joint by {glued} px");
     assert!(loose > 5.0 * glued.max(0.01), "without the glue rows the parts drift apart: {loose} px");
 }
+
+#[test]
+fn a_tiny_disc_still_holds_its_part_and_heavy_glue_is_refused() {
+    // A disc that catches no vertex takes the three nearest over the lower part: a part with
+    // no pin of its own is then held, not left free to turn (a singular system).
+    let mut c = Character::from_layers(&figure(), &options(6.0)).unwrap();
+    let tiny = |upper, at| GlueSpec { upper, lower: 0, at, radius: 0.1, weight: 100.0 };
+    c.set_glue(vec![tiny(1, [141.0, 147.0]), tiny(2, [150.0, 106.0])]).unwrap();
+    assert_eq!(c.glue_rows().len(), 6);
+    for method in [Method::TwoStep, Method::Nonlinear, Method::Injective] {
+        let rest = c.rest(method_options(method)).unwrap();
+        let mut pinned = compile(&c, &rest);
+        drag(&mut pinned, [215.0, 10.0], if method == Method::Injective { 30 } else { 1 });
+        assert!(pinned.report().glue_gap <= 0.5, "{method:?}: {}", pinned.report().glue_gap);
+    }
+    let heavy = GlueSpec { weight: 2e4, ..tiny(1, [141.0, 147.0]) };
+    assert_eq!(c.set_glue(vec![heavy]).unwrap_err().code(), "bad-option");
+}

@@ -28,9 +28,15 @@ use crate::simulation::Simulation;
 /// nothing else changing from 10 up.
 pub const DEFAULT_GLUE_WEIGHT: f64 = 100.0;
 
-/// The largest glue weight (the handle weight's bound: beyond, the normal matrices are
-/// numerically singular).
-pub const MAX_GLUE_WEIGHT: f64 = crate::limits::HANDLE_WEIGHT_RANGE.1;
+/// The largest glue weight. The rows weigh `w²` against the edges' O(1): at 10⁴ a glued
+/// blender still gives a rigid pose back to 7·10⁻⁷ px, at 10⁶ only to 10⁻³–10⁻² px (the
+/// fuzzer's measurement), the stitching matrix then being near singular in floating point.
+pub const MAX_GLUE_WEIGHT: f64 = 1e4;
+
+/// The fewest points a disc holds: one or two points would leave a part with no pin of its
+/// own free to turn about them, and its system singular; a disc that catches fewer takes
+/// the upper part's vertices over the lower part nearest its centre.
+pub const MIN_GLUE_POINTS: usize = 3;
 
 /// The fewest opaque pixels two parts must share for automatic glue to join them.
 pub const MIN_OVERLAP: usize = 16;
@@ -104,11 +110,12 @@ pub fn check_specs(specs: &[GlueSpec], part_count: usize) -> Result<()> {
 
 /// The rows of the discs `specs` on the solved mesh: the rendered mesh's, or through
 /// `simulation` the simulation mesh's. Each upper vertex within the disc that lies on the
-/// lower part's mesh gives a row; a disc that holds no such vertex gives one row at its
-/// centre.
+/// lower part's mesh gives a row; a disc that holds fewer than [`MIN_GLUE_POINTS`] such
+/// vertices takes the nearest ones to its centre.
 ///
-/// Errors: [`Error::BadOption`] (name `"glue"`) for a disc whose centre lies on no vertex
-/// of the overlap and not on both parts.
+/// Errors: [`Error::BadOption`] (name `"glue"`) for a disc that holds no such vertex and
+/// whose centre is off the upper part, or whose upper part has fewer than two vertices over
+/// its lower part.
 pub(crate) fn resolve(
     parts: &Parts,
     simulation: Option<&Simulation>,
@@ -137,30 +144,42 @@ pub(crate) fn resolve(
     };
     let mut rows = Vec::new();
     for (k, g) in specs.iter().enumerate() {
-        let before = rows.len();
-        for v in parts.vertices[g.upper].clone() {
-            let p = mesh.vertices()[v as usize];
-            if (p[0] - g.at[0]).hypot(p[1] - g.at[1]) > g.radius {
-                continue;
-            }
-            if let Some(l) = parts.locate(g.lower, p) {
-                rows.push(GlueRow::new(&vertex(v), &side(&l), g.weight)?);
-            }
+        // The upper part's vertices over the lower part, nearest the centre first.
+        let mut over: Vec<(f64, u32, Location)> = parts.vertices[g.upper]
+            .clone()
+            .filter_map(|v| {
+                let p = mesh.vertices()[v as usize];
+                let l = parts.locate(g.lower, p)?;
+                Some(((p[0] - g.at[0]).hypot(p[1] - g.at[1]), v, l))
+            })
+            .collect();
+        over.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let inside = over.iter().take_while(|(d, ..)| *d <= g.radius).count();
+        if inside == 0 && parts.locate(g.upper, g.at).is_none() {
+            return Err(Error::BadOption {
+                name: "glue",
+                value: None,
+                reason: format!(
+                    "(glue[{k}].at) [{}, {}] with radius {} holds no point of part {} over part {}",
+                    g.at[0], g.at[1], g.radius, g.upper, g.lower
+                ),
+            });
         }
-        if rows.len() == before {
-            match (parts.locate(g.upper, g.at), parts.locate(g.lower, g.at)) {
-                (Some(a), Some(b)) => rows.push(GlueRow::new(&side(&a), &side(&b), g.weight)?),
-                _ => {
-                    return Err(Error::BadOption {
-                        name: "glue",
-                        value: None,
-                        reason: format!(
-                            "(glue[{k}].at) [{}, {}] with radius {} holds no point of part {} over part {}",
-                            g.at[0], g.at[1], g.radius, g.upper, g.lower
-                        ),
-                    })
-                }
-            }
+        let taken = inside.max(MIN_GLUE_POINTS.min(over.len()));
+        if taken < 2 {
+            return Err(Error::BadOption {
+                name: "glue",
+                value: None,
+                reason: format!(
+                    "(glue[{k}]) part {} has {} vertices over part {}: a disc needs at least two to hold it",
+                    g.upper,
+                    over.len(),
+                    g.lower
+                ),
+            });
+        }
+        for (_, v, l) in &over[..taken] {
+            rows.push(GlueRow::new(&vertex(*v), &side(l), g.weight)?);
         }
     }
     Ok(rows)

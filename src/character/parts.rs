@@ -85,8 +85,12 @@ pub(super) fn build(layers: &[Layer], options: &CharacterOptions) -> Result<Char
         };
         match mesh_image(&layer.rgba, w, h, &image_options) {
             Ok(shape) => meshed.push((k, shape)),
-            Err(Error::NoOpaquePixel { .. }) => {
-                warnings.push(format!("layer {k} ({:?}) has no opaque pixel: left out", layer.name));
+            Err(Error::NoOpaquePixel { specks, .. }) => {
+                let why = match specks {
+                    0 => format!("has no pixel of alpha {threshold} or more"),
+                    _ => format!("has only specks: opaque regions under {} pixels", image_options.min_area),
+                };
+                warnings.push(format!("layer {k} ({:?}) {why}: left out", layer.name));
             }
             Err(e) => {
                 let reason = format!("cannot be meshed: {e}");

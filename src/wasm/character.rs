@@ -44,9 +44,11 @@ export interface GlueSpec {
   upper: number | string;
   lower: number | string;
   at: [number, number];
-  /** Canvas pixels; default 3 mesh spacings. */
+  /** Canvas pixels, ≥ 0 (`Infinity`: the whole overlap); default 3 mesh spacings. A disc holds at
+   *  least 3 points: the upper part's vertices over the lower part nearest its centre when it
+   *  catches fewer. */
   radius?: number;
-  /** The rows' weight; default 100. */
+  /** The rows' weight, in (0, 10000]; default 100. */
   weight?: number;
 }
 export interface CharacterOptions {

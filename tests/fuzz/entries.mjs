@@ -1,11 +1,13 @@
-// The entry points the fuzzer calls: every static factory, constructor, method, getter and
-// free function of pkg/bunraku.d.ts. Each entry says what it is called on (`on`, a class of
-// the pool, or none), its parameters (`params`, the documented types and ranges that
-// checks.mjs holds an accepted call to), how to make valid arguments (`valid`), how to call
-// it (`call`), and what a successful call must have stored (`after`, a round-trip check
-// returning a description of the difference, or null).
+// The entry points the fuzzer calls: every static factory, constructor, method, getter,
+// setter and free function of pkg/bunraku.d.ts. Each entry says what it is called on (`on`, a
+// class of the pool, or none), its parameters (`params`, the documented types and ranges that
+// checks.mjs holds an accepted call to), how to make valid arguments (`valid`, given the
+// target and its pool item), how to call it (`call`), and what a successful call must have
+// stored (`after`, a round-trip check returning a description of the difference, or null:
+// checks.mjs, and characterchecks.mjs for characters).
 import { describe, tag } from "./values.mjs";
 import * as C from "./checks.mjs";
+import * as CC from "./characterchecks.mjs";
 import { CHARACTERS, RIGID_POSES, characterPins, drawOrderOf, glueSpecs, pickPoint } from "./characters.mjs";
 
 const KIND = ["position", "bend", "advanced"];
@@ -37,7 +39,9 @@ const TRACK = opts({ kinds: { type: "kinds" }, smoothing: num({ min: 0 }), speed
 const FLATTEN = opts({ weights: en(["uniform", "cotangent"]), handleWeight: num({ min: 1e-4, max: 1e6 }), pins: { type: "u32" }, targets: f64() });
 const LINE = or(bool, opts({ color: rgba, width: num({ above: 0, max: 256 }) }));
 const RENDER = opts({ transform: or(f64({ len: 6 }), { type: "f32", len: 6 }, { type: "array", of: num(), len: 6 }), background: rgba, depth: or(f64(), { type: "f32", finite: true }),
-  overlays: opts({ pins: any, wireframe: LINE, outline: LINE, starch: any, depth: or(bool, opts({ front: rgba, back: rgba })) }) });
+  overlays: opts({ pins: any, wireframe: LINE, outline: LINE, starch: any, depth: or(bool, opts({ front: rgba, back: rgba })) }),
+  styles: { type: "array", of: opts({ opacity: num({ min: 0, max: 1 }), blendMode: en(["normal", "multiply", "screen", "additive"]) }) } });
+RENDER.extra = C.stylesProblem; // one style per depth level (distinct depth values, at most 16), and only with depth
 const REGION = (amountKey) => ({
   type: "array",
   of: { type: "opts", keys: { at: { type: "array", of: num(), len: 2 }, [amountKey]: num(), extent: num({ above: 0 }) }, required: ["at", amountKey, "extent"] },
@@ -45,22 +49,22 @@ const REGION = (amountKey) => ({
 const SIZE = int({ min: 1, max: 16384 });
 
 // Characters (issue 24). A layer's rect is four whole numbers within ±2²⁰, not empty, its
-// rgba (r − l)(b − t)·4 bytes (`C.layerProblem`); a clipping layer is refused. The declared
+// rgba (r − l)(b − t)·4 bytes (`CC.layerProblem`); a clipping layer is refused. The declared
 // Layer has every field but `clipping` required; the reader defaults name and group to "",
 // visible to true, opacity to 1 and blendMode to "normal", so only rect and rgba are here.
-const LAYER = { type: "opts", required: ["rect", "rgba"], extra: C.layerProblem, keys: {
+const LAYER = { type: "opts", required: ["rect", "rgba"], extra: CC.layerProblem, keys: {
   name: { type: "str" }, group: { type: "str" }, rect: { type: "array", of: int({ min: -(2 ** 20), max: 2 ** 20 }), len: 4 }, visible: bool,
   opacity: num({ min: 0, max: 1 }), blendMode: en(["normal", "multiply", "screen", "additive"]), clipping: en([false]), rgba: { type: "rgba" } } };
 /** A part by index (below the part count, when known) or by name. */
 const PART = (below) => or(int({ min: 0, below }), { type: "str" });
 /** Glue discs: two different parts, `at` finite, radius ≥ 0 (+∞: the whole overlap; default
- *  3 spacings), weight in (0, 10⁶] (default 100); at most 16 per part. */
+ *  3 spacings), weight in (0, 10⁴] (default 100); at most 16 per part. */
 const GLUE = (below) => ({ type: "array", of: { type: "opts", required: ["upper", "lower", "at"], keys: { upper: PART(below), lower: PART(below),
-  at: { type: "array", of: num(), len: 2 }, radius: num({ min: 0, infinite: true }), weight: num({ above: 0, max: 1e6 }) } } });
+  at: { type: "array", of: num(), len: 2 }, radius: num({ min: 0, infinite: true }), weight: num({ above: 0, max: 1e4 }) } } });
 const CHARACTER = opts({ spacing: num({ above: 0 }), hidden: en(["skip", "keep"]), glue: or(en(["auto"]), GLUE()), simulationVertices: int({ min: 0 }),
   alphaThreshold: int({ min: 1, max: 255 }) });
 const partsOf = (t) => t.parts.length;
-const CHARACTER_REGISTER = opts(Object.fromEntries(Object.entries(REGISTER.keys).filter(([k]) => k !== "simulation"))); // its own simulation
+const CHARACTER_REGISTER = opts({ ...REGISTER.keys, simulation: { type: "absent" } }); // the character's own simulation mesh: null or left out
 CHARACTER_REGISTER.extra = C.otherMethodKeys;
 
 /** Random helpers over the pool. */
@@ -134,6 +138,10 @@ function frame(g) {
   const s = Math.min(w, h) / (Math.max(...v) + 1);
   const o = some(g, { transform: [s, 0, 0, s, 0.5, 0.5], background: [255, 255, 255, 255], depth: new Float32Array(m.triangleCount).map((_, i) => i % 3) });
   if (g.rng.chance(0.2)) o.overlays = some(g, { wireframe: true, outline: { width: 2 }, starch: new Float64Array(m.triangleCount).fill(0.5) }, 0.6);
+  if (o.depth && g.rng.chance(0.5)) {
+    const style = () => some(g, { opacity: pick(g, [0, 0.5, 1]), blendMode: pick(g, ["normal", "multiply", "screen", "additive"]) }, 0.7);
+    o.styles = Array.from({ length: new Set(o.depth).size }, style);
+  }
   return [tag(v, "mesh.vertices"), tag(m.triangles, "mesh.triangles"), tag(m.uvs, "mesh.uvs"), w, h, o];
 }
 
@@ -218,7 +226,7 @@ export function entries(lib) {
       params: [f64({ len: (t) => 2 * t.handleCount }), { type: "f64", len: (t) => 2 * t.vertexCount }, { ...f64({ len: (t) => 2 * t.handleCount }), optional: true }],
       valid: (g, t) => [targetsNear(g, t), new Float64Array(2 * t.vertexCount), undefined],
       call: (t, a) => t.updateInto(...a), after: (_, [, out]) => C.finiteResult(out) },
-    getter("puppet", ["componentCount", "converged", "handleCount", "handles", "kinds", "lag", "method", "pinPositions", "positions", "radius",
+    getter("puppet", ["componentCount", "converged", "glueGap", "handleCount", "handles", "kinds", "lag", "method", "pinPositions", "positions", "radius",
       "simulationPositions", "simulationTriangles", "simulationVertexCount", "triangleCount", "triangleDepth", "triangles", "vertexCount", "vertices", "weights"]),
     free("puppet"),
 
@@ -281,6 +289,8 @@ export function entries(lib) {
       call: (t, a) => t.positionsAt(...a), after: (_, __, { result }) => C.finiteResult(result) },
     { name: "Player.positionsInto", on: "player", params: [num(), { type: "f64", len: (t) => 2 * t.vertexCount }],
       valid: (g, t) => [round(g.rng.range(-1, 3)), new Float64Array(2 * t.vertexCount)], call: (t, a) => t.positionsInto(...a) },
+    { name: "Player.drawOrderAt", on: "player", params: [num()], valid: (g) => [round(g.rng.range(-1, 3))], call: (t, a) => t.drawOrderAt(...a),
+      after: (t, [time], { result }) => C.drawOrderAt(t, time, result) },
     { name: "Player.toJSON", on: "player", params: [], valid: () => [], call: (t) => t.toJSON(), after: (_, __, { result }) => C.jsonClean(result) },
     getter("player", ["duration", "loop", "mode", "picture", "triangleCount", "triangleDepth", "triangles", "uvs", "vertexCount", "vertices"]),
     free("player"),
@@ -298,24 +308,25 @@ export function entries(lib) {
     free("renderer"),
 
     // ---- Character
-    { name: "Character.fromLayers", makes: true, weight: 1.5, params: [{ type: "array", of: LAYER }, CHARACTER],
+    { name: "Character.fromLayers", makes: true, params: [{ type: "array", of: LAYER }, CHARACTER],
       valid: (g) => {
         const set = pick(g, g.pool.data.layerSets);
         const o = some(g, { hidden: pick(g, ["skip", "keep"]), simulationVertices: pick(g, [0, 0, 64]), alphaThreshold: pick(g, [1, 128, 255]), glue: g.rng.chance(0.3) ? "auto" : set.glue });
-        return [set.layers, g.rng.chance(0.9) ? { spacing: pick(g, [3, 4]), ...o } : o];
+        return [set.layers, g.rng.chance(0.9) ? { spacing: pick(g, [3.5, 5]), ...o } : o];
       },
-      call: (_, a) => lib.Character.fromLayers(...a), after: (c, a) => C.characterMade(c, a) },
+      call: (_, a) => lib.Character.fromLayers(...a), after: (c, a) => CC.characterMade(c, a) },
     { name: "Character.pick", on: "character", params: [num(), num()], valid: (g, t, item) => pickPoint(g, item), call: (t, a) => t.pick(...a),
-      after: (t, a, { result }) => C.picked(t, a, result) },
+      after: (t, a, { result }) => CC.picked(t, a, result) },
     { name: "Character.puppet", on: "character", makes: true, params: [CHARACTER_REGISTER], valid: (g) => [registerOptions(g)], call: (t, a) => t.puppet(...a),
-      after: (p, [o], { target }) => C.registerStored(p, o) ?? C.madeOf(p, target) },
-    { name: "Character.blender", on: "character", makes: true, params: [opts({ iterations: int({ min: 0, max: 100 }) })], valid: (g) => [some(g, { iterations: g.rng.int(3) })],
-      call: (t, a) => t.blender(...a), after: (b, _, { target }) => C.madeOf(b, target) },
+      after: (p, [o], { target }) => C.registerStored(p, o) ?? CC.madeOf(p, target) },
+    { name: "Character.blender", on: "character", makes: true, params: [opts({ iterations: int({ min: 0, max: 100 }), simulation: { type: "absent" } })], valid: (g) => [some(g, { iterations: g.rng.int(3) })],
+      call: (t, a) => t.blender(...a), after: (b, _, { target }) => CC.madeOf(b, target) },
     { name: "Character.setGlue", on: "character", mutates: true, params: [GLUE(partsOf)], valid: (g, t, item) => [glueSpecs(g, item)],
-      call: (t, a) => t.setGlue(...a), after: (t, [specs]) => C.glueStored(t, specs, CHARACTERS.get(t)?.options.spacing) },
+      call: (t, a) => t.setGlue(...a), after: (t, [specs]) => CC.glueStored(t, specs, CHARACTERS.get(t)?.options.spacing) },
     { name: "Character.drawOrder", on: "character", mutates: true, params: [{ type: "array", of: PART(partsOf) }], valid: (g, t, item) => [drawOrderOf(g, item)],
       call: (t, a) => { t.drawOrder = a[0]; }, describeCall: (label, args) => `(${label}).drawOrder = ${args.length ? describe(args[0]) : "undefined"}${args.length > 1 ? ` (and ${args.length - 1} more)` : ""}`,
-      after: (t, [order]) => C.orderStored(t, order) },
+      after: (t, [order]) => CC.orderStored(t, order) },
+    { name: "Character.toDocument", on: "character", weight: 0.5, params: [], valid: () => [], call: (t) => t.toDocument(), after: (t, _, { result }) => CC.characterDocument(t, result, lib) },
     getter("character", ["atlas", "drawOrder", "glue", "parts", "triangles", "uvs", "vertices", "warnings"]),
     free("character"),
 

@@ -207,6 +207,9 @@ export function buildPool(lib) {
   const track = add("track", `new Track(2, { kinds: ["position", "advanced"] })+3 records`, recorded);
   add("track", "new Track(1)", () => new Track(1));
 
+  // Characters (issue 24), their puppets, blenders and documents.
+  const { layerSets, docs: characterDocs } = addCharacters(add, lib);
+
   // Documents, written by the library (Player.load(...).toJSON()).
   const mesh = { vertices: plain(g3.vertices), triangles: plain(g3.triangles), uvs: plain(m0.obj.uvs) };
   const base = { format: "bunraku-puppet", version: 1, picture: { url: "p.png", width: 3, height: 3 }, mesh };
@@ -222,20 +225,17 @@ export function buildPool(lib) {
     simulation: { vertices: plain(sim.vertices), triangles: plain(sim.triangles), parent: plain(sim.parent), weights: plain(sim.weights) },
     poses: [{ positions: plain(sim.vertices).map((x, i) => (i % 2 ? x : 1.2 * x)) }], weights: { times: [0, 1], values: [0, 1] }, loop: true };
   const docs = [];
-  for (const [label, doc] of [["trackDoc", trackDoc], ["weightDoc", weightDoc], ["stillDoc", base], ["injectiveDoc", injDoc], ["simulationDoc", simDoc]]) {
+  for (const [label, doc, played = true] of [["trackDoc", trackDoc], ["weightDoc", weightDoc], ["stillDoc", base], ["injectiveDoc", injDoc], ["simulationDoc", simDoc], ...characterDocs]) {
     const clean = JSON.parse(JSON.stringify(doc));
     const saved = Player.load(clean).toJSON();
     docs.push(tag(saved, label));
-    add("player", `Player.load(${label})`, () => Player.load(saved));
+    if (played) add("player", `Player.load(${label})`, () => Player.load(saved));
   }
 
   // Renderers.
   const tex = picture(8, 8);
   add("renderer", "new Renderer(picture(8, 8))", () => new Renderer(tex.rgba, 8, 8));
   add("renderer", "new Renderer(picture(5, 3))", () => { const p = picture(5, 3); return new Renderer(p.rgba, 5, 3); });
-
-  // Characters (issue 24), their puppets and blenders.
-  const layerSets = addCharacters(add, lib);
 
   // Freed objects of every class.
   const freed = {};
