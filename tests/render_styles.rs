@@ -8,9 +8,12 @@ use bunraku::render::{BlendMode, LevelStyle, RenderOptions, Renderer};
 const BACK: [u8; 4] = [200, 100, 50, 255];
 const FRONT: [u8; 4] = [40, 160, 240, 255];
 
+/// Positions, triangles, uvs and depths.
+type Scene = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[f32; 2]>, Vec<f64>);
+
 /// Two 8 × 8 squares, the front one shifted by 4 px: depth 0 behind, 1 in front. Each
 /// samples its own texel (uvs at the texel centres).
-fn scene() -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[f32; 2]>, Vec<f64>) {
+fn scene() -> Scene {
     let square = |x: f64| [[x, 0.0], [x + 8.0, 0.0], [x + 8.0, 8.0], [x, 8.0]];
     let positions: Vec<[f64; 2]> = square(0.0).into_iter().chain(square(4.0)).collect();
     let uvs: Vec<[f32; 2]> = [[0.25, 0.5]; 4].into_iter().chain([[0.75, 0.5]; 4]).collect();
