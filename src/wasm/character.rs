@@ -238,6 +238,12 @@ impl JsCharacter {
         let array = order.dyn_ref::<Array>().ok_or_else(|| bad_type("drawOrder", "an array", &order))?;
         let order = {
             let c = self.0.borrow()?;
+            // The length first: an order of a million entries is refused before any is read.
+            let (len, count) = (array.length() as usize, c.parts().len());
+            if len != count {
+                let reason = format!("has {len} entries, but there are {count} parts");
+                return Err(Error::BadOption { name: "drawOrder", value: None, reason }.into());
+            }
             (0..array.length())
                 .map(|i| part_index(&c, &format!("drawOrder[{i}]"), &array.get(i)))
                 .collect::<Result<Vec<_>, _>>()?
