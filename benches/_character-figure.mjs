@@ -1,5 +1,5 @@
-// benches/character.mjs's figure (the research notes' character, as tests/node/character.test.mjs's
-// `figure()`): a torso, an arm lying over it and a head overlapping its top, as layers; the
+// benches/character.mjs's figure (the research notes' character; tests/node/character.test.mjs
+// imports it too): a torso, an arm lying over it and a head overlapping its top, as layers; the
 // same picture composited into one flat RGBA; the pins and drags; and the measures of a pose
 // (flipped triangles per part, the torso band's displacement). The leading "_" keeps this
 // file out of the test runner's files.

@@ -34,11 +34,10 @@
 // _character-drags.mjs (sections 1 and 2) and _character-psd.mjs (section 3).
 
 import { existsSync, readFileSync } from "node:fs";
-import { execSync } from "node:child_process";
-import { createHash } from "node:crypto";
 import os from "node:os";
 import { buildGL } from "../scripts/build-gl.mjs";
 import { arg, check, fmt, nowMs } from "./_scale-format.mjs";
+import { machine } from "./_machine.mjs";
 
 const root = new URL("../", import.meta.url);
 const quick = process.argv.includes("--quick");
@@ -52,24 +51,6 @@ async function waitForPkg() {
     console.error("pkg/ is being rebuilt; waiting a minute");
     await new Promise((r) => setTimeout(r, 60000));
   }
-}
-
-function machine() {
-  let cpu = os.cpus()[0]?.model ?? "?";
-  try {
-    cpu = /model name\s*:\s*(.*)/.exec(readFileSync("/proc/cpuinfo", "utf8"))[1];
-  } catch {}
-  let commit = "";
-  let dirty = "";
-  try {
-    commit = execSync("git rev-parse --short HEAD", { cwd: root, encoding: "utf8" }).trim();
-    dirty = execSync("git status --porcelain -- src crates js Cargo.toml Cargo.lock", { cwd: root, encoding: "utf8" }).trim() ? " (src/, crates/ or js/ have uncommitted changes)" : "";
-  } catch {}
-  const sha = createHash("sha256").update(readFileSync(new URL("pkg/bunraku_bg.wasm", root))).digest("hex").slice(0, 12);
-  return (
-    `${cpu}, ${os.cpus().length} cores, node ${process.version}, load average ${os.loadavg().map((x) => x.toFixed(2)).join(" ")}, ` +
-    `commit ${commit}${dirty}, pkg/bunraku_bg.wasm sha256 ${sha}, ${new Date().toISOString().slice(0, 16).replace("T", " ")} UTC`
-  );
 }
 
 async function main() {
@@ -87,7 +68,7 @@ async function main() {
   const warm = quick ? 10 : 30;
 
   console.log(`# Issue 24: layered characters (benches/character.mjs${quick ? " --quick" : ""})\n`);
-  console.log(machine());
+  console.log(machine(["src", "crates", "js"]));
   const summary = [];
 
   if (sections.includes("figure")) {

@@ -44,11 +44,11 @@
 // (and the build probe, in a fresh process).
 
 import { readFileSync } from "node:fs";
-import { spawnSync, execSync } from "node:child_process";
-import { createHash } from "node:crypto";
+import { spawnSync } from "node:child_process";
 import os from "node:os";
 import { initSync, Mesh, Puppet } from "../pkg/bunraku.js";
 import { median } from "./_time.mjs";
+import { machine } from "./_machine.mjs";
 import { CASES, DRAG_UPDATES, HOLD_UPDATES, METHODS, PICTURE, SETTLE_CAP, SIZES, characterRgba, framesOf } from "./_scale-cases.mjs";
 import { calibrate, calibrationTable, CALIBRATION_SOLVES, fidelity, fidelityTable, FULL_BUDGET_MS, FULL_CAP, FULL_SECONDS, runCase, sizeTable } from "./_scale-drags.mjs";
 import { arg, check, fmt, kilo, nowMs, pct } from "./_scale-format.mjs";
@@ -142,24 +142,6 @@ function buildTable(size) {
 
 // ---------------------------------------------------------------------------------------
 
-function machine() {
-  let cpu = os.cpus()[0]?.model ?? "?";
-  try {
-    cpu = /model name\s*:\s*(.*)/.exec(readFileSync("/proc/cpuinfo", "utf8"))[1];
-  } catch {}
-  let commit = "";
-  let dirty = "";
-  try {
-    commit = execSync("git rev-parse --short HEAD", { cwd: root, encoding: "utf8" }).trim();
-    dirty = execSync("git status --porcelain -- src Cargo.toml Cargo.lock", { cwd: root, encoding: "utf8" }).trim() ? " (src/ has uncommitted changes)" : "";
-  } catch {}
-  const sha = createHash("sha256").update(readFileSync(new URL("pkg/bunraku_bg.wasm", root))).digest("hex").slice(0, 12);
-  return (
-    `${cpu}, ${os.cpus().length} cores, node ${process.version}, load average ${os.loadavg().map((x) => x.toFixed(2)).join(" ")}, ` +
-    `commit ${commit}${dirty}, pkg/bunraku_bg.wasm sha256 ${sha}, ${new Date().toISOString().slice(0, 16).replace("T", " ")} UTC`
-  );
-}
-
 async function main() {
   const started = nowMs();
   const sizes = arg("sizes") ? arg("sizes").split(",").map(Number) : SIZES;
@@ -171,7 +153,7 @@ async function main() {
   if (only) for (const n of only) if (!CASES.some((c) => c.name === n)) throw new Error(`no case ${n}; the cases are ${CASES.map((c) => c.name).join(", ")}`);
 
   console.log(`# Issue 22 suite (benches/scale.mjs)\n`);
-  console.log(machine());
+  console.log(machine(["src"]));
   console.log(`\nCases (${DRAG_UPDATES} drag updates, then ${HOLD_UPDATES} held):`);
   for (const c of cases) console.log(`- ${c.name}: ${c.title}`);
 

@@ -2,10 +2,9 @@
 // and the device pixel ratio, and maps the character's canvas pixels to CSS pixels (a
 // transform, or a fit of some points), as `PuppetView` does for one picture.
 
-import type { Affine } from "./affine.js";
-import { CanvasBox, type ViewPlacement } from "./box.js";
+import type { ViewPlacement } from "./box.js";
+import { BoxView } from "./boxview.js";
 import { CharacterPainter } from "./characterpainter.js";
-import { PuppetViewError } from "./error.js";
 import type { CharacterSource, PartKey } from "./parts.js";
 
 /** What `CharacterView` takes besides the canvas and the character: where to draw
@@ -34,53 +33,13 @@ export interface CharacterViewOptions extends ViewPlacement {
  * view.dispose();
  * ```
  */
-export class CharacterView {
-  /** The canvas drawn on. */
-  readonly canvas: HTMLCanvasElement;
-  private readonly painter: CharacterPainter;
-  private readonly box: CanvasBox;
-  private disposed = false;
-
+export class CharacterView extends BoxView<CharacterPainter> {
   /** Reads the character (a `Character`, whose getters are read once, or the same data),
    *  takes the canvas's WebGL2 context and uploads the atlas and the mesh. Throws a
    *  `PuppetViewError`: `bad-option`, `bad-character`, `bad-picture` (the atlas),
    *  `no-webgl2`. */
   constructor(canvas: HTMLCanvasElement, character: CharacterSource, options: CharacterViewOptions = {}) {
-    const { onContextLost } = options;
-    this.canvas = canvas;
-    this.box = new CanvasBox(canvas, options);
-    this.painter = new CharacterPainter(canvas, character, onContextLost ? { onContextLost } : {});
-    this.box.observe();
-  }
-
-  /** The character's units → CSS pixels, as the next draw maps them (the fit for the
-   *  canvas's size as last measured, with `fit`). */
-  get transform(): Affine {
-    return this.box.transform;
-  }
-
-  /** Maps the character's units to CSS pixels by `transform` from now on (no more fit).
-   *  Throws `bad-option`. */
-  setTransform(transform: Affine): void {
-    this.alive();
-    this.box.setTransform(transform);
-  }
-
-  /** Centres `points` in the canvas from now on, covering `fill` of it, following its
-   *  size (see `ViewPlacement.fit`). Throws `bad-option`. */
-  fit(points: ArrayLike<number>, fill = 1): void {
-    this.alive();
-    this.box.fit(points, fill);
-  }
-
-  /** Device pixels per CSS pixel of the drawing buffer, as it is now sized. */
-  get pixelRatio(): number {
-    return this.box.pixelRatio;
-  }
-
-  /** Whether the GPU context is lost (draws draw nothing until it is restored). */
-  get contextLost(): boolean {
-    return this.painter.contextLost;
+    super(canvas, options, (painterOptions) => new CharacterPainter(canvas, character, painterOptions));
   }
 
   /** The parts' names, by index (`character.parts`' order). */
@@ -110,35 +69,5 @@ export class CharacterView {
   setOpacity(part: PartKey, opacity: number): void {
     this.alive();
     this.painter.setOpacity(part, opacity);
-  }
-
-  /** Sizes the drawing buffer to the canvas's CSS content box times the pixel ratio, when
-   *  they differ (`draw` calls it; see `PuppetView.resize`). Returns whether the buffer
-   *  changed. */
-  resize(): boolean {
-    this.alive();
-    return this.box.resize();
-  }
-
-  /** Draws the character at `positions` (`[x0, y0, …]`, one pair per vertex of the
-   *  character: `puppet.update`'s) over a transparent background. Returns whether it drew:
-   *  not while the GPU context is lost, nor while the canvas is not laid out. Throws
-   *  `bad-length`, `disposed`. */
-  draw(positions: Float64Array | Float32Array): boolean {
-    this.alive();
-    const transform = this.box.deviceTransform();
-    return transform !== null && this.painter.draw(positions, transform);
-  }
-
-  /** Releases the GPU resources and stops watching the canvas; the view cannot be used
-   *  again (calls throw `disposed`). The canvas keeps its context: a new view can use it. */
-  dispose(): void {
-    this.disposed = true;
-    this.box.disconnect();
-    this.painter.dispose();
-  }
-
-  private alive(): void {
-    if (this.disposed) throw new PuppetViewError("disposed", "this view was disposed");
   }
 }

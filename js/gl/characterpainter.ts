@@ -6,11 +6,11 @@
 import type { Affine } from "./affine.js";
 import { premultipliedAtlas, uploadAtlas } from "./atlas.js";
 import { BLEND_FACTORS } from "./blend.js";
-import { takeContext, watchContext, type Canvas } from "./context.js";
+import { takeContext, type Canvas } from "./context.js";
 import { PuppetViewError } from "./error.js";
-import { clipMatrix, drawnSmall } from "./frame.js";
 import { PartTable, type CharacterSource, type PartKey } from "./parts.js";
-import { compile, link, PART_FRAGMENT_SHADER, POSITION, UV, VERTEX_SHADER } from "./shaders.js";
+import { beginDraw, checkPositions, clearCanvas, createMeshResources, deleteMeshResources, uploadIndices, uploadVertices, watchResources, type MeshResources } from "./resources.js";
+import { PART_FRAGMENT_SHADER } from "./shaders.js";
 
 /** What `CharacterPainter` takes besides the canvas and the character. */
 export interface CharacterPainterOptions {
@@ -19,15 +19,8 @@ export interface CharacterPainterOptions {
   onContextLost?: (lost: boolean) => void;
 }
 
-interface Resources {
-  program: WebGLProgram;
-  toClip: WebGLUniformLocation;
+interface Resources extends MeshResources {
   opacity: WebGLUniformLocation;
-  texture: WebGLTexture;
-  vao: WebGLVertexArrayObject;
-  positions: WebGLBuffer;
-  uvs: WebGLBuffer;
-  indices: WebGLBuffer;
 }
 
 /**
@@ -68,18 +61,11 @@ export class CharacterPainter {
     }
     this.canvas = canvas;
     this.gl = gl;
-    const told = options.onContextLost;
-    const lost = () => {
+    const drop = () => {
       this.res = null;
-      told?.(true);
-    };
-    const restored = () => {
-      if (this.disposed) return;
-      this.upload();
-      told?.(false);
     };
     if (!gl.isContextLost()) this.upload();
-    this.unwatch = watchContext(canvas, lost, restored);
+    this.unwatch = watchResources(canvas, () => this.disposed, drop, () => this.upload(), options.onContextLost);
   }
 
   /** Whether the GPU context is lost (draws draw nothing until it is restored). */
@@ -131,29 +117,10 @@ export class CharacterPainter {
     this.alive();
     const { gl, res, scratch, table } = this;
     if (!res || gl.isContextLost()) return false;
-    if (positions.length !== scratch.length) {
-      throw new PuppetViewError("bad-length", `positions: got ${positions.length}, expected ${scratch.length} (two per vertex)`);
-    }
-    gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
-    gl.clearColor(0, 0, 0, 0);
-    gl.clear(gl.COLOR_BUFFER_BIT);
+    checkPositions(positions, scratch);
+    clearCanvas(gl);
     if (table.runCount === 0) return true;
-    gl.useProgram(res.program);
-    gl.uniformMatrix3fv(res.toClip, false, clipMatrix(this.toClip, transform, this.canvas.width, this.canvas.height));
-    gl.activeTexture(gl.TEXTURE0);
-    gl.bindTexture(gl.TEXTURE_2D, res.texture);
-    const mipmapped = drawnSmall(gl, this.canvas, transform);
-    if (mipmapped !== this.mipmapped) {
-      this.mipmapped = mipmapped;
-      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, mipmapped ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
-    }
-    let data: Float32Array = scratch;
-    if (positions instanceof Float32Array) data = positions;
-    else for (let k = 0; k < scratch.length; k++) scratch[k] = positions[k];
-    gl.bindVertexArray(res.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, res.positions);
-    gl.bufferSubData(gl.ARRAY_BUFFER, 0, data);
-    gl.enable(gl.BLEND);
+    this.mipmapped = beginDraw(gl, res, this.canvas, this.toClip, transform, this.mipmapped, positions, scratch);
     gl.blendEquation(gl.FUNC_ADD);
     const { runs, opacity } = table;
     let mode = -1, alpha = -1;
@@ -182,11 +149,7 @@ export class CharacterPainter {
     this.unwatch();
     const { gl, res } = this;
     this.res = null;
-    if (!res || gl.isContextLost()) return;
-    gl.deleteProgram(res.program);
-    gl.deleteTexture(res.texture);
-    gl.deleteVertexArray(res.vao);
-    for (const b of [res.positions, res.uvs, res.indices]) gl.deleteBuffer(b);
+    if (res) deleteMeshResources(gl, res);
   }
 
   private alive(): void {
@@ -196,35 +159,14 @@ export class CharacterPainter {
   /** Makes the GPU resources and uploads the atlas and the mesh. */
   private upload(): void {
     const { gl } = this;
-    const program = link(gl, compile(gl, gl.VERTEX_SHADER, VERTEX_SHADER), compile(gl, gl.FRAGMENT_SHADER, PART_FRAGMENT_SHADER));
-    const toClip = gl.getUniformLocation(program, "u_toClip");
-    const opacity = gl.getUniformLocation(program, "u_opacity");
-    const picture = gl.getUniformLocation(program, "u_picture");
-    const texture = gl.createTexture();
-    const vao = gl.createVertexArray();
-    const positions = gl.createBuffer();
-    const uvs = gl.createBuffer();
-    const indices = gl.createBuffer();
-    if (!toClip || !opacity || !picture || !texture || !vao || !positions || !uvs || !indices) {
-      throw new PuppetViewError("webgl", "WebGL2 could not create the painter's resources");
-    }
-    gl.useProgram(program);
-    gl.uniform1i(picture, 0);
+    const res = createMeshResources(gl, PART_FRAGMENT_SHADER);
+    const opacity = gl.getUniformLocation(res.program, "u_opacity");
+    if (!opacity) throw new PuppetViewError("webgl", "WebGL2 could not create the painter's resources");
     gl.activeTexture(gl.TEXTURE0);
-    uploadAtlas(gl, texture, this.atlas);
+    uploadAtlas(gl, res.texture, this.atlas);
     this.mipmapped = false;
-    gl.bindVertexArray(vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, positions);
-    gl.bufferData(gl.ARRAY_BUFFER, this.scratch.byteLength, gl.DYNAMIC_DRAW);
-    gl.enableVertexAttribArray(POSITION);
-    gl.vertexAttribPointer(POSITION, 2, gl.FLOAT, false, 0, 0);
-    gl.bindBuffer(gl.ARRAY_BUFFER, uvs);
-    gl.bufferData(gl.ARRAY_BUFFER, this.uvs, gl.STATIC_DRAW);
-    gl.enableVertexAttribArray(UV);
-    gl.vertexAttribPointer(UV, 2, gl.FLOAT, false, 0, 0);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indices);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, this.table.triangles, gl.STATIC_DRAW);
-    gl.bindVertexArray(null);
-    this.res = { program, toClip, opacity, texture, vao, positions, uvs, indices };
+    uploadVertices(gl, res, this.scratch.byteLength, this.uvs);
+    uploadIndices(gl, res, this.table.triangles);
+    this.res = { ...res, opacity };
   }
 }

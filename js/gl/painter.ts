@@ -2,28 +2,18 @@
 // caller sizes, with the context and its GPU resources (made again after a lost context).
 
 import type { Affine } from "./affine.js";
-import { takeContext, watchContext, type Canvas } from "./context.js";
+import { takeContext, type Canvas } from "./context.js";
 import { depthOrder, hasDepth } from "./depth.js";
 import { PuppetViewError } from "./error.js";
-import { clipMatrix, drawnSmall } from "./frame.js";
 import { isImage, isImageBitmap, pictureSize, premultipliedCopy, type PictureSource } from "./picture.js";
-import { compile, FRAGMENT_SHADER, link, POSITION, UV, VERTEX_SHADER } from "./shaders.js";
+import { beginDraw, checkPositions, clearCanvas, createMeshResources, deleteMeshResources, uploadIndices, uploadVertices, watchResources, type MeshResources } from "./resources.js";
+import { FRAGMENT_SHADER } from "./shaders.js";
 
 /** What `MeshPainter` takes besides the canvas. */
 export interface MeshPainterOptions {
   /** Told `true` when the GPU context is lost and `false` once it is back (the painter has
    *  then made its resources again and uploaded the picture and the mesh): draw again then. */
   onContextLost?: (lost: boolean) => void;
-}
-
-interface Resources {
-  program: WebGLProgram;
-  toClip: WebGLUniformLocation;
-  texture: WebGLTexture;
-  vao: WebGLVertexArrayObject;
-  positions: WebGLBuffer;
-  uvs: WebGLBuffer;
-  indices: WebGLBuffer;
 }
 
 /**
@@ -37,7 +27,7 @@ export class MeshPainter {
   /** The canvas drawn on. */
   readonly canvas: Canvas;
   private readonly gl: WebGL2RenderingContext;
-  private res: Resources | null;
+  private res: MeshResources | null;
   private disposed = false;
   private picture: TexImageSource | null = null;
   private triangles: Uint32Array = new Uint32Array(0);
@@ -53,20 +43,16 @@ export class MeshPainter {
     const gl = takeContext(canvas);
     this.canvas = canvas;
     this.gl = gl;
-    this.res = gl.isContextLost() ? null : this.createResources();
-    const told = options.onContextLost;
-    const lost = () => {
+    this.res = gl.isContextLost() ? null : createMeshResources(gl, FRAGMENT_SHADER);
+    const drop = () => {
       this.res = null;
-      told?.(true);
     };
-    const restored = () => {
-      if (this.disposed) return;
-      this.res = this.createResources();
+    const remake = () => {
+      this.res = createMeshResources(gl, FRAGMENT_SHADER);
       this.uploadPicture();
       this.uploadMesh();
-      told?.(false);
     };
-    this.unwatch = watchContext(canvas, lost, restored);
+    this.unwatch = watchResources(canvas, () => this.disposed, drop, remake, options.onContextLost);
   }
 
   /** Whether the GPU context is lost (draws draw nothing until it is restored). */
@@ -132,30 +118,10 @@ export class MeshPainter {
     this.alive();
     const { gl, res, scratch } = this;
     if (!res || gl.isContextLost()) return false;
-    if (positions.length !== scratch.length) {
-      throw new PuppetViewError("bad-length", `positions: got ${positions.length}, expected ${scratch.length} (two per vertex)`);
-    }
-    gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
-    gl.clearColor(0, 0, 0, 0);
-    gl.clear(gl.COLOR_BUFFER_BIT);
+    checkPositions(positions, scratch);
+    clearCanvas(gl);
     if (this.triangles.length === 0 || !this.picture) return true;
-    gl.useProgram(res.program);
-    gl.uniformMatrix3fv(res.toClip, false, clipMatrix(this.toClip, transform, this.canvas.width, this.canvas.height));
-    gl.activeTexture(gl.TEXTURE0);
-    gl.bindTexture(gl.TEXTURE_2D, res.texture);
-    // Trilinear filtering only where bilinear would alias (see `drawnSmall`).
-    const mipmapped = drawnSmall(gl, this.canvas, transform);
-    if (mipmapped !== this.mipmapped) {
-      this.mipmapped = mipmapped;
-      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, mipmapped ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
-    }
-    let data: Float32Array = scratch;
-    if (positions instanceof Float32Array) data = positions;
-    else for (let k = 0; k < scratch.length; k++) scratch[k] = positions[k];
-    gl.bindVertexArray(res.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, res.positions);
-    gl.bufferSubData(gl.ARRAY_BUFFER, 0, data);
-    gl.enable(gl.BLEND);
+    this.mipmapped = beginDraw(gl, res, this.canvas, this.toClip, transform, this.mipmapped, positions, scratch);
     gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA); // premultiplied "over"
     gl.drawElements(gl.TRIANGLES, this.triangles.length, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
@@ -171,11 +137,7 @@ export class MeshPainter {
     const { gl, res } = this;
     this.res = null;
     this.picture = null;
-    if (!res || gl.isContextLost()) return;
-    gl.deleteProgram(res.program);
-    gl.deleteTexture(res.texture);
-    gl.deleteVertexArray(res.vao);
-    for (const b of [res.positions, res.uvs, res.indices]) gl.deleteBuffer(b);
+    if (res) deleteMeshResources(gl, res);
   }
 
   private alive(): void {
@@ -203,12 +165,7 @@ export class MeshPainter {
   private uploadMesh(): void {
     const { gl, res } = this;
     if (!res) return;
-    gl.bindVertexArray(res.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, res.positions);
-    gl.bufferData(gl.ARRAY_BUFFER, this.scratch.byteLength, gl.DYNAMIC_DRAW);
-    gl.bindBuffer(gl.ARRAY_BUFFER, res.uvs);
-    gl.bufferData(gl.ARRAY_BUFFER, this.uvs, gl.STATIC_DRAW);
-    gl.bindVertexArray(null);
+    uploadVertices(gl, res, this.scratch.byteLength, this.uvs);
     this.uploadIndices();
   }
 
@@ -216,36 +173,6 @@ export class MeshPainter {
   private uploadIndices(): void {
     const { gl, res } = this;
     if (!res) return;
-    gl.bindVertexArray(res.vao);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, res.indices);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, this.depth ? depthOrder(this.triangles, this.depth) : this.triangles, gl.STATIC_DRAW);
-    gl.bindVertexArray(null);
-  }
-
-  private createResources(): Resources {
-    const { gl } = this;
-    const program = link(gl, compile(gl, gl.VERTEX_SHADER, VERTEX_SHADER), compile(gl, gl.FRAGMENT_SHADER, FRAGMENT_SHADER));
-    const toClip = gl.getUniformLocation(program, "u_toClip");
-    const picture = gl.getUniformLocation(program, "u_picture");
-    const texture = gl.createTexture();
-    const vao = gl.createVertexArray();
-    const positions = gl.createBuffer();
-    const uvs = gl.createBuffer();
-    const indices = gl.createBuffer();
-    if (!toClip || !picture || !texture || !vao || !positions || !uvs || !indices) {
-      throw new PuppetViewError("webgl", "WebGL2 could not create the painter's resources");
-    }
-    gl.useProgram(program);
-    gl.uniform1i(picture, 0);
-    gl.bindVertexArray(vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, positions);
-    gl.enableVertexAttribArray(POSITION);
-    gl.vertexAttribPointer(POSITION, 2, gl.FLOAT, false, 0, 0);
-    gl.bindBuffer(gl.ARRAY_BUFFER, uvs);
-    gl.enableVertexAttribArray(UV);
-    gl.vertexAttribPointer(UV, 2, gl.FLOAT, false, 0, 0);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indices);
-    gl.bindVertexArray(null);
-    return { program, toClip, texture, vao, positions, uvs, indices };
+    uploadIndices(gl, res, this.depth ? depthOrder(this.triangles, this.depth) : this.triangles);
   }
 }

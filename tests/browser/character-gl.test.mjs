@@ -11,63 +11,34 @@
 //
 //   node --test tests/browser/character-gl.test.mjs
 
-import { after, before, test } from "node:test";
+import { test } from "node:test";
 import assert from "node:assert/strict";
-import { existsSync, readFileSync } from "node:fs";
-import { fileURLToPath } from "node:url";
-import { chromium } from "playwright-core";
-import { buildGL, GL_DIST } from "../../scripts/build-gl.mjs";
-import { CHROMIUM, CHROMIUM_ARGS } from "./_harness.mjs";
+import { blankPages, loseAndRestore } from "./_blank.mjs";
 
 const TIMEOUT = 90_000;
 const ORIGIN = "http://bunraku-character-gl.test";
-const PKG = fileURLToPath(new URL("../../pkg/", import.meta.url));
-let browser;
-
-before(async () => {
-  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: run scripts/setup.sh (it installs Debian's chromium)`);
-  buildGL({ log: () => {} });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+const blankPage = blankPages({
+  origin: ORIGIN,
+  modules: ["gl"],
+  pkg: true,
+  ready: () => window.gl !== undefined && window.bunraku !== undefined,
+  viewport: { width: 600, height: 400 },
 });
-
-after(async () => {
-  await browser?.close();
-});
+/** The page's script: the wasm package's glue, initialised, as `window.bunraku`, and
+ *  dist/gl.js as `window.gl`. */
+const SCRIPT = `<script type="module">
+  const wasm = await import("/pkg/bunraku.js");
+  await wasm.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
+  window.bunraku = wasm;
+  window.gl = await import("/gl.js");
+</script>`;
 
 /** Runs `check(page)` on a blank page at ORIGIN with `body`: dist/gl.js is `window.gl` (its
  *  modules at /gl/), the wasm package's glue (pkg/, initialised) `window.bunraku`, and
- *  PAGE_HELPERS are defined; then asserts that the page reported no error. */
-async function inPage(body, check, deviceScaleFactor = 1) {
-  const context = await browser.newContext({ viewport: { width: 600, height: 400 }, deviceScaleFactor });
-  try {
-    const errors = [];
-    context.on("weberror", (e) => errors.push(String(e.error())));
-    await context.route(`${ORIGIN}/**`, (route) => {
-      const path = new URL(route.request().url()).pathname;
-      if (path === "/gl.js" || /^\/gl\/\w+\.js$/.test(path)) return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${GL_DIST}${path}`, "utf8") });
-      if (path === "/pkg/bunraku.js") return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${PKG}bunraku.js`, "utf8") });
-      if (path === "/pkg/bunraku_bg.wasm") return route.fulfill({ contentType: "application/wasm", body: readFileSync(`${PKG}bunraku_bg.wasm`) });
-      return route.fulfill({
-        contentType: "text/html",
-        body: `<!doctype html><body style="margin:0">${body}<script type="module">
-          const wasm = await import("/pkg/bunraku.js");
-          await wasm.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
-          window.bunraku = wasm;
-          window.gl = await import("/gl.js");
-        </script>`,
-      });
-    });
-    await context.addInitScript(PAGE_HELPERS);
-    const page = await context.newPage();
-    page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
-    await page.goto(`${ORIGIN}/`);
-    await page.waitForFunction(() => window.gl !== undefined && window.bunraku !== undefined);
-    await check(page);
-    assert.deepEqual(errors, []);
-  } finally {
-    await context.close();
-  }
-}
+ *  PAGE_HELPERS and `code` (_blank.mjs's ERROR_CODE) are defined; then asserts that the page
+ *  reported no error. */
+const inPage = (body, check, deviceScaleFactor = 1) =>
+  blankPage({ html: `<!doctype html><body style="margin:0">${body}${SCRIPT}`, initScript: PAGE_HELPERS, deviceScaleFactor }, check);
 
 /** Functions defined in the page: `layer(name, rect, paint, extra)`, a layer of `rect`
  *  whose pixels are `paint` (a straight [r, g, b, a], or `(x, y) →` one, x and y within
@@ -353,12 +324,7 @@ test("a lost context draws nothing; restored, the view uploads the atlas again a
       window.lose = canvas.getContext("webgl2").getExtension("WEBGL_lose_context");
       return [read(canvas, 30, 30), read(canvas, 55, 30), read(canvas, 15, 15)];
     });
-    await page.evaluate(() => lose.loseContext());
-    await page.waitForFunction(() => told.length === 1);
-    const lost = await page.evaluate(() => ({ told: [...told], contextLost: view.contextLost, drew: view.draw(character.vertices) }));
-    assert.deepEqual(lost, { told: [true], contextLost: true, drew: false });
-    await page.evaluate(() => lose.restoreContext());
-    await page.waitForFunction(() => told.length === 2);
+    await loseAndRestore(page, () => view.draw(character.vertices));
     const after = await page.evaluate(() => {
       const canvas = document.querySelector("#c");
       const drew = view.draw(character.vertices);
@@ -374,14 +340,6 @@ test("bad input throws a PuppetViewError with a code and leaves the view as it w
   await inPage(`<canvas id="c" style="width: 100px; height: 80px"></canvas><canvas id="flat"></canvas>`, async (page) => {
     const r = await page.evaluate(() => {
       const canvas = document.querySelector("#c");
-      const code = (f) => {
-        try {
-          f();
-          return "no error";
-        } catch (e) {
-          return e instanceof gl.PuppetViewError && e instanceof Error ? `${e.code}: ${e.message}` : `not a PuppetViewError: ${e}`;
-        }
-      };
       // A hidden green layer kept as a part: not drawn, and not in `triangles`.
       const character = bunraku.Character.fromLayers(
         [layer("red", [10, 10, 50, 50], [255, 0, 0, 255]), layer("green", [15, 15, 45, 45], [0, 255, 0, 255], { visible: false }), layer("blue", [20, 25, 60, 35], [0, 0, 255, 255])],

@@ -7,52 +7,25 @@
 //
 //   node --test tests/browser/gl.test.mjs
 
-import { after, before, test } from "node:test";
+import { test } from "node:test";
 import assert from "node:assert/strict";
-import { existsSync, readFileSync } from "node:fs";
-import { chromium } from "playwright-core";
-import { buildGL, GL_DIST } from "../../scripts/build-gl.mjs";
-import { CHROMIUM, CHROMIUM_ARGS } from "./_harness.mjs";
+import { blankPages, loseAndRestore } from "./_blank.mjs";
 
 const TIMEOUT = 60_000;
 const ORIGIN = "http://bunraku-gl.test";
-let browser;
-
-before(async () => {
-  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: run scripts/setup.sh (it installs Debian's chromium)`);
-  buildGL({ log: () => {} });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
-});
-
-after(async () => {
-  await browser?.close();
+const blankPage = blankPages({
+  origin: ORIGIN,
+  modules: ["gl"],
+  ready: () => window.gl !== undefined,
+  viewport: { width: 600, height: 400 },
 });
 
 /** Runs `check(page)` on a blank page at ORIGIN with `body`, dist/gl.js at /gl.js (the
- *  module is `window.gl`; the modules it imports, dist/gl/*.js, at /gl/) and PAGE_HELPERS,
- *  in a context of `deviceScaleFactor`; then asserts that the page reported no error, and
- *  closes it. */
-async function inPage(body, check, deviceScaleFactor = 1) {
-  const context = await browser.newContext({ viewport: { width: 600, height: 400 }, deviceScaleFactor });
-  try {
-    const errors = [];
-    context.on("weberror", (e) => errors.push(String(e.error())));
-    await context.route(`${ORIGIN}/**`, (route) => {
-      const path = new URL(route.request().url()).pathname;
-      if (path === "/gl.js" || /^\/gl\/\w+\.js$/.test(path)) return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${GL_DIST}${path}`, "utf8") });
-      return route.fulfill({ contentType: "text/html", body: `<!doctype html><body style="margin:0">${body}<script type="module">window.gl = await import("/gl.js");</script>` });
-    });
-    await context.addInitScript(PAGE_HELPERS);
-    const page = await context.newPage();
-    page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
-    await page.goto(`${ORIGIN}/`);
-    await page.waitForFunction(() => window.gl !== undefined);
-    await check(page);
-    assert.deepEqual(errors, []);
-  } finally {
-    await context.close();
-  }
-}
+ *  module is `window.gl`; the modules it imports, dist/gl/*.js, at /gl/), PAGE_HELPERS and
+ *  `code` (_blank.mjs's ERROR_CODE),
+ *  in a context of `deviceScaleFactor`; then asserts that the page reported no error. */
+const inPage = (body, check, deviceScaleFactor = 1) =>
+  blankPage({ html: `<!doctype html><body style="margin:0">${body}<script type="module">window.gl = await import("/gl.js");</script>`, initScript: PAGE_HELPERS, deviceScaleFactor }, check);
 
 /** Functions defined in the page: a 4 × 2 picture (left half opaque red, right half blue at
  *  alpha 128, straight), a quad mesh, and `read(canvas, x, y)`: the drawing buffer's
@@ -232,12 +205,7 @@ test("a lost context draws nothing; restored, the painter uploads the picture ag
       window.lose = canvas.getContext("webgl2").getExtension("WEBGL_lose_context");
       return [read(canvas, 15, 20), read(canvas, 65, 20)];
     });
-    await page.evaluate(() => lose.loseContext());
-    await page.waitForFunction(() => told.length === 1);
-    const lost = await page.evaluate(() => ({ told: [...told], contextLost: view.contextLost, drew: view.draw(q.positions) }));
-    assert.deepEqual(lost, { told: [true], contextLost: true, drew: false });
-    await page.evaluate(() => lose.restoreContext());
-    await page.waitForFunction(() => told.length === 2);
+    await loseAndRestore(page, () => view.draw(q.positions));
     const after = await page.evaluate(() => {
       const canvas = document.querySelector("#c");
       return { told: [...told], contextLost: view.contextLost, drew: view.draw(q.positions), pixels: [read(canvas, 15, 20), read(canvas, 65, 20)] };
@@ -252,14 +220,6 @@ test("bad input throws a PuppetViewError with a code and leaves the view as it w
     const codes = await page.evaluate(async () => {
       const canvas = document.querySelector("#c");
       const q = quad(0, 0, 80, 40);
-      const code = (f) => {
-        try {
-          f();
-          return "no error";
-        } catch (e) {
-          return e instanceof gl.PuppetViewError && e instanceof Error ? `${e.code}: ${e.message}` : `not a PuppetViewError: ${e}`;
-        }
-      };
       const flat = document.querySelector("#flat");
       flat.getContext("2d");
       const pending = new Image(); // not decoded

@@ -7,52 +7,23 @@
 //
 //   node --test tests/browser/layers.test.mjs
 
-import { after, before, test } from "node:test";
+import { test } from "node:test";
 import assert from "node:assert/strict";
-import { existsSync, readFileSync } from "node:fs";
-import { chromium } from "playwright-core";
-import { buildGL, GL_DIST } from "../../scripts/build-gl.mjs";
-import { CHROMIUM, CHROMIUM_ARGS } from "./_harness.mjs";
+import { blankPages } from "./_blank.mjs";
 
 const ORIGIN = "http://bunraku-layers.test";
-let browser;
-
-before(async () => {
-  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: run scripts/setup.sh (it installs Debian's chromium)`);
-  buildGL({ log: () => {} });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
-});
-
-after(async () => {
-  await browser?.close();
+const blankPage = blankPages({
+  origin: ORIGIN,
+  html: `<!doctype html><body><script type="module">window.layers = await import("/layers.js");</script>`,
+  modules: ["layers"],
+  ready: () => window.layers !== undefined,
+  viewport: { width: 400, height: 300 },
 });
 
 /** Runs `check(page)` on a blank page at ORIGIN whose `window.layers` is dist/layers.js
- *  (its modules, dist/layers/*.js, served at /layers/), then asserts that the page reported
- *  no error. */
-async function inPage(check) {
-  const context = await browser.newContext({ viewport: { width: 400, height: 300 }, deviceScaleFactor: 1 });
-  try {
-    const errors = [];
-    context.on("weberror", (e) => errors.push(String(e.error())));
-    await context.route(`${ORIGIN}/**`, (route) => {
-      const path = new URL(route.request().url()).pathname;
-      if (path === "/layers.js" || /^\/layers\/\w+\.js$/.test(path)) {
-        return route.fulfill({ contentType: "text/javascript", body: readFileSync(`${GL_DIST}${path}`, "utf8") });
-      }
-      if (path === "/worker.js") return route.fulfill({ contentType: "text/javascript", body: WORKER });
-      return route.fulfill({ contentType: "text/html", body: `<!doctype html><body><script type="module">window.layers = await import("/layers.js");</script>` });
-    });
-    const page = await context.newPage();
-    page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
-    await page.goto(`${ORIGIN}/`);
-    await page.waitForFunction(() => window.layers !== undefined);
-    await check(page);
-    assert.deepEqual(errors, []);
-  } finally {
-    await context.close();
-  }
-}
+ *  (its modules, dist/layers/*.js, served at /layers/), with WORKER at /worker.js; then
+ *  asserts that the page reported no error. */
+const inPage = (check) => blankPage({ scripts: { "/worker.js": WORKER } }, check);
 
 /** A module worker that reads an SVG with and without `rasterize` and posts the outcome. */
 const WORKER = `

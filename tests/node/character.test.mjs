@@ -8,37 +8,13 @@ import { readFileSync } from "node:fs";
 import { initSync, Character, Player, Renderer, Track } from "bunraku";
 import { layersFromImages } from "bunraku/layers";
 import { buildGL } from "../../scripts/build-gl.mjs";
+import { figure, HAND, layer, TORSO } from "../../benches/_character-figure.mjs";
 
 buildGL({ log: () => {} });
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
-/** A layer of `rect` opaque where `inside(x + ½, y + ½)`. */
-function layer(name, rect, rgb, inside, extra = {}) {
-  const [l, t, r, b] = rect;
-  const rgba = new Uint8Array((r - l) * (b - t) * 4);
-  for (let y = t; y < b; y++) {
-    for (let x = l; x < r; x++) {
-      const k = ((y - t) * (r - l) + (x - l)) * 4;
-      rgba.set([...rgb, inside(x + 0.5, y + 0.5) ? 255 : 0], k);
-    }
-  }
-  return { name, group: "", rect, visible: true, opacity: 1, blendMode: "normal", rgba, ...extra };
-}
-
-/** The research notes' figure: a torso, an arm over it, a head overlapping its top. */
-function figure() {
-  return [
-    layer("torso", [100, 100, 200, 282], [200, 60, 60], (x, y) => {
-      const dx = Math.abs(x - 150) - 40, dy = Math.abs(y - 191) - 81;
-      return Math.hypot(Math.max(dx, 0), Math.max(dy, 0)) <= 10;
-    }),
-    layer("arm", [128, 134, 304, 160], [60, 60, 200], (x, y) => Math.hypot(x - Math.min(Math.max(x, 141), 291), y - 147) <= 13),
-    layer("head", [110, 32, 190, 112], [60, 200, 60], (x, y) => Math.hypot(x - 150, y - 72) <= 40, { group: "top/face" }),
-  ];
-}
-
-const TORSO = [[115, 270], [185, 270], [112, 140], [190, 205]];
-const HAND = [292, 147];
+// The research notes' figure (a torso, an arm over it, a head overlapping its top), its
+// layers and pins: the same as the character benchmark's.
 
 function throwsCode(call, code, pattern) {
   assert.throws(call, (e) => {
