@@ -3,6 +3,8 @@
 //! ([`crate::meshing::mesh_image`]) and moved to canvas pixels, the meshes joined into one,
 //! the atlas, the texture coordinates and the glue.
 
+use std::ops::Range;
+
 use super::atlas::Atlas;
 use super::glue::{self, GlueSpec};
 use super::layer::Layer;
@@ -109,7 +111,7 @@ pub(super) fn build(layers: &[Layer], options: &CharacterOptions) -> Result<Char
 
     let refs: Vec<&Layer> = meshed.iter().map(|&(k, _)| &layers[k]).collect();
     let atlas = Atlas::pack(&refs)?;
-    let (mesh, ranges) = join(&meshed, layers, |shape| shape.mesh())?;
+    let (mesh, ranges) = join(&meshed, layers)?;
     let simulation = if meshed.iter().any(|(_, s)| s.simulation().is_some()) {
         Some(joined_simulation(&meshed, layers, &mesh)?)
     } else {
@@ -161,57 +163,63 @@ pub(super) fn build(layers: &[Layer], options: &CharacterOptions) -> Result<Char
     Ok(character)
 }
 
-/// The meshes `mesh_of(shape)` of the parts, moved to canvas pixels and joined, with each
-/// part's vertex and triangle ranges.
-type Ranges = Vec<(std::ops::Range<u32>, std::ops::Range<u32>)>;
-fn join(
-    meshed: &[(usize, ShapeMesh)],
-    layers: &[Layer],
-    mesh_of: impl Fn(&ShapeMesh) -> &Mesh,
-) -> Result<(Mesh, Ranges)> {
-    let mut vertices = Vec::new();
-    let mut triangles = Vec::new();
-    let mut ranges = Vec::with_capacity(meshed.len());
-    for (k, shape) in meshed {
-        let m = mesh_of(shape);
-        let [left, top, ..] = layers[*k].rect;
-        let (v0, t0) = (vertices.len() as u32, triangles.len() as u32);
-        vertices.extend(m.vertices().iter().map(|p| [p[0] + left as f64, p[1] + top as f64]));
-        triangles.extend(m.triangles().iter().map(|t| t.map(|v| v + v0)));
-        ranges.push((v0..vertices.len() as u32, t0..triangles.len() as u32));
+/// Meshes joined one after the other: each moved by its offset, its triangles' indices
+/// shifted past the vertices before it.
+#[derive(Default)]
+struct Joined {
+    vertices: Vec<[f64; 2]>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Joined {
+    /// Appends `mesh` moved by `offset`; returns its vertex and triangle ranges.
+    fn append(&mut self, mesh: &Mesh, offset: [i64; 2]) -> (Range<u32>, Range<u32>) {
+        let (v0, t0) = (self.vertices.len() as u32, self.triangles.len() as u32);
+        let [dx, dy] = offset.map(|d| d as f64);
+        self.vertices.extend(mesh.vertices().iter().map(|p| [p[0] + dx, p[1] + dy]));
+        self.triangles.extend(mesh.triangles().iter().map(|t| t.map(|v| v + v0)));
+        (v0..self.vertices.len() as u32, t0..self.triangles.len() as u32)
     }
-    if vertices.len() > MAX_VERTICES {
-        let count = vertices.len() as f64;
+}
+
+/// The parts' meshes, moved to canvas pixels and joined, with each part's vertex and
+/// triangle ranges.
+type Ranges = Vec<(Range<u32>, Range<u32>)>;
+fn join(meshed: &[(usize, ShapeMesh)], layers: &[Layer]) -> Result<(Mesh, Ranges)> {
+    let mut joined = Joined::default();
+    let ranges = meshed.iter().map(|(k, shape)| joined.append(shape.mesh(), corner(&layers[*k]))).collect();
+    if joined.vertices.len() > MAX_VERTICES {
+        let count = joined.vertices.len() as f64;
         return Err(Error::TooMany { what: "vertices", count, estimated: false, limit: MAX_VERTICES });
     }
-    Ok((Mesh::new(vertices, triangles)?, ranges))
+    Ok((Mesh::new(joined.vertices, joined.triangles)?, ranges))
 }
 
 /// The parts' simulation meshes joined (a part without one is its own, `refine(·, 1)`),
 /// carrying the joined rendered mesh `rendered`.
 fn joined_simulation(meshed: &[(usize, ShapeMesh)], layers: &[Layer], rendered: &Mesh) -> Result<Simulation> {
-    let own: Vec<Option<Simulation>> = meshed
-        .iter()
-        .map(|(_, s)| match s.simulation() {
-            Some(_) => Ok(None),
-            None => refine(s.mesh(), 1).map(|(_, sim)| Some(sim)),
-        })
-        .collect::<Result<_>>()?;
-    let simulation_of = |k: usize| own[k].as_ref().or(meshed[k].1.simulation()).expect("every part has one");
-    let mut vertices = Vec::new();
-    let mut triangles = Vec::new();
+    let mut joined = Joined::default();
     let mut parent = Vec::new();
     let mut weights = Vec::new();
-    for (k, (layer, _)) in meshed.iter().enumerate() {
-        let s = simulation_of(k);
-        let [left, top, ..] = layers[*layer].rect;
-        let (v0, t0) = (vertices.len() as u32, triangles.len() as u32);
-        vertices.extend(s.mesh().vertices().iter().map(|p| [p[0] + left as f64, p[1] + top as f64]));
-        triangles.extend(s.mesh().triangles().iter().map(|t| t.map(|v| v + v0)));
-        parent.extend(s.parent().iter().map(|&t| t + t0));
+    for (k, shape) in meshed {
+        let own;
+        let s = match shape.simulation() {
+            Some(s) => s,
+            None => {
+                own = refine(shape.mesh(), 1)?.1;
+                &own
+            }
+        };
+        let (_, triangles) = joined.append(s.mesh(), corner(&layers[*k]));
+        parent.extend(s.parent().iter().map(|&t| t + triangles.start));
         weights.extend_from_slice(s.weights());
     }
-    Simulation::new(Mesh::new(vertices, triangles)?, parent, weights, rendered)
+    Simulation::new(Mesh::new(joined.vertices, joined.triangles)?, parent, weights, rendered)
+}
+
+/// A layer's top-left corner in canvas pixels: where its meshes are moved to.
+fn corner(layer: &Layer) -> [i64; 2] {
+    [layer.rect[0], layer.rect[1]]
 }
 
 /// Each vertex's texture coordinate: its canvas point in its part's atlas region.
