@@ -268,6 +268,7 @@ fn track_document_at(method: &str, rate: usize) -> Document {
         poses: None,
         track: Some(t.to_json()),
         parts: None,
+        atlas: None,
         glue: None,
         draw_order: None,
         draw_order_track: None,

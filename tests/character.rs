@@ -394,11 +394,20 @@ fn a_character_document_round_trips_and_plays_glued_with_a_keyed_draw_order() {
     // Layered fields without parts, and parts that do not tile the mesh, are refused.
     let mut plain = d.clone();
     plain.parts = None;
-    let e = Player::new(plain).unwrap_err();
+    let e = Player::new(plain.clone()).unwrap_err();
     assert_eq!(e.code(), "bad-document");
+    assert!(e.to_string().contains("atlas"), "{e}");
+    plain.atlas = None;
+    assert!(Player::new(plain).unwrap_err().to_string().contains("glue"));
     let mut gapped = d.clone();
     gapped.parts.as_mut().unwrap()[1].vertices[0] += 1;
     assert!(Player::new(gapped).unwrap_err().to_string().contains("parts[1].vertices"));
+    let atlas = d.atlas.clone().unwrap();
+    assert_eq!((atlas.url, atlas.width, atlas.height), (None, c.atlas().width, c.atlas().height));
+    let mut pictured = d.clone();
+    pictured.picture =
+        Some(bunraku::animation::PictureJson { url: "a.png".into(), width: None, height: None });
+    assert!(Player::new(pictured).unwrap_err().to_string().contains("picture"));
     let mut bad_order = d.clone();
     bad_order.draw_order_track = Some(DrawOrderTrackJson { times: vec![1.0], orders: vec![vec![1, 1, 2]] });
     assert!(Player::new(bad_order).unwrap_err().to_string().contains("drawOrderTrack.orders[0]"));

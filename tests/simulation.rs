@@ -54,6 +54,7 @@ fn document(method: &str) -> Document {
         poses: None,
         track: Some(track.to_json()),
         parts: None,
+        atlas: None,
         glue: None,
         draw_order: None,
         draw_order_track: None,

@@ -5,7 +5,7 @@
 
 use std::ops::Range;
 
-use super::{fault, fault_at, Document, DocumentFault};
+use super::{fault, fault_at, Document, DocumentFault, GlueRowsJson};
 use crate::character::BlendMode;
 use crate::deform::{GlueRow, Handle, Pin};
 use crate::error::Result;
@@ -36,6 +36,7 @@ impl Layered {
     pub(crate) fn new(d: &Document, mesh: &Mesh) -> Result<Option<Layered>> {
         let Some(parts) = &d.parts else {
             for (field, present) in [
+                ("atlas", d.atlas.is_some()),
                 ("glue", d.glue.is_some()),
                 ("drawOrder", d.draw_order.is_some()),
                 ("drawOrderTrack", d.draw_order_track.is_some()),
@@ -48,6 +49,10 @@ impl Layered {
             }
             return Ok(None);
         };
+        if d.picture.is_some() {
+            let reason = "is one picture's texture: a layered character's is its atlas (`atlas`)".into();
+            return Err(fault(DocumentFault::Structure, "picture".into(), reason));
+        }
         let (mut v, mut t) = (0u32, 0u32);
         for (k, p) in parts.iter().enumerate() {
             let field = |f: &str| format!("parts[{k}].{f}");
@@ -155,35 +160,43 @@ impl Layered {
     }
 }
 
-/// The glue rows of `d` on a solved mesh of `n` vertices (none without `glue`). Errors
-/// ([`crate::Error::BadDocument`], naming the field): more rows than [`MAX_GLUE_ROWS`],
-/// term counts outside 2–6 or not adding up to the terms given, vertices out of range,
-/// coefficients that are not finite.
+/// The glue rows of `d`, read back bit for bit (`glue.rows`, written by [`rows_json`]), on
+/// a solved mesh of `n` vertices. Errors ([`crate::Error::BadDocument`], naming the field):
+/// more than [`MAX_GLUE_ROWS`] rows, lengths that disagree, a row of other than 2 to 6
+/// terms or whose sides are not one to three terms each, a vertex outside the mesh, a
+/// coefficient that is not finite or a weight that is not finite and > 0.
 pub(crate) fn glue_rows(d: &Document, n: usize) -> Result<Vec<GlueRow>> {
-    let Some(glue) = &d.glue else { return Ok(Vec::new()) };
-    let r = &glue.rows;
-    if r.terms.len() > MAX_GLUE_ROWS {
-        let reason = format!("has {} rows, more than {MAX_GLUE_ROWS}", r.terms.len());
+    d.glue.as_ref().map_or(Ok(Vec::new()), |glue| read_rows(&glue.rows, n))
+}
+
+/// The rows `r` on a mesh of `n` vertices: [`glue_rows`] without the document.
+fn read_rows(r: &GlueRowsJson, n: usize) -> Result<Vec<GlueRow>> {
+    let count = r.terms.len();
+    if count > MAX_GLUE_ROWS {
+        let reason = format!("has {count} rows, more than {MAX_GLUE_ROWS}");
         return Err(fault(DocumentFault::Structure, "glue.rows.terms".into(), reason));
+    }
+    for (field, len) in [("upper", r.upper.len()), ("weights", r.weights.len())] {
+        super::check_len(&format!("glue.rows.{field}"), len, count)?;
     }
     let total: u64 = r.terms.iter().map(|&k| k as u64).sum();
     if r.vertices.len() as u64 != total || r.coefficients.len() as u64 != total {
         let reason = format!("the rows' {total} terms need as many vertices and coefficients");
         return Err(fault(DocumentFault::Length, "glue.rows".into(), reason));
     }
-    let mut rows = Vec::with_capacity(r.terms.len());
+    let mut rows = Vec::with_capacity(count);
+    let mut terms = Vec::with_capacity(6);
     let mut at = 0usize;
-    for (k, &len) in r.terms.iter().enumerate() {
-        let len = len as usize;
+    for k in 0..count {
+        let len = r.terms[k] as usize;
         let field = |f: &str| format!("glue.rows.{f}[{k}]");
         if !(2..=6).contains(&len) {
             return Err(fault_at(DocumentFault::Structure, field("terms"), len as f64, "is not 2 to 6"));
         }
-        let terms: Vec<(u32, f64)> = r.vertices[at..at + len]
-            .iter()
-            .copied()
-            .zip(r.coefficients[at..at + len].iter().copied())
-            .collect();
+        terms.clear();
+        terms.extend(
+            r.vertices[at..at + len].iter().copied().zip(r.coefficients[at..at + len].iter().copied()),
+        );
         at += len;
         if let Some(&(v, _)) = terms.iter().find(|(v, _)| *v as usize >= n) {
             let reason = format!("reads vertex {v} of a mesh of {n}");
@@ -192,16 +205,32 @@ pub(crate) fn glue_rows(d: &Document, n: usize) -> Result<Vec<GlueRow>> {
         if let Some(&(_, c)) = terms.iter().find(|(_, c)| !c.is_finite()) {
             return Err(fault_at(DocumentFault::NonFinite, field("coefficients"), c, "is not finite"));
         }
-        let (upper, lower): (Vec<_>, Vec<_>) = terms.iter().partition(|(_, c)| *c > 0.0);
-        let weight: f64 = upper.iter().map(|(_, c)| c).sum();
-        let side = |s: &[(u32, f64)], sign: f64| -> Vec<(u32, f64)> {
-            s.iter().map(|&(v, c)| (v, sign * c / weight)).collect()
-        };
-        let row = GlueRow::new(&side(&upper, 1.0), &side(&lower, -1.0), weight)
-            .map_err(|e| fault(DocumentFault::Structure, field("coefficients"), e.to_string()))?;
+        let row = GlueRow::from_terms(&terms, r.upper[k] as usize, r.weights[k])
+            .map_err(|e| fault(DocumentFault::Structure, field("upper"), e.to_string()))?;
         rows.push(row);
     }
     Ok(rows)
+}
+
+/// `rows` as a document holds them (`glue.rows`), read back by [`glue_rows`].
+pub(crate) fn rows_json(rows: &[GlueRow]) -> GlueRowsJson {
+    let mut json = GlueRowsJson {
+        terms: Vec::with_capacity(rows.len()),
+        vertices: Vec::new(),
+        coefficients: Vec::new(),
+        upper: Vec::with_capacity(rows.len()),
+        weights: Vec::with_capacity(rows.len()),
+    };
+    for row in rows {
+        json.terms.push(row.terms().count() as u32);
+        json.upper.push(row.upper_terms() as u32);
+        json.weights.push(row.weight());
+        for (v, c) in row.terms() {
+            json.vertices.push(v);
+            json.coefficients.push(c);
+        }
+    }
+    json
 }
 
 /// `order` as part indices, every one of `count` parts once. Errors name `field`.
@@ -209,4 +238,28 @@ fn permutation(order: &[u32], count: usize, field: &str) -> Result<Vec<usize>> {
     crate::character::check_order(&order.iter().map(|&k| k as usize).collect::<Vec<_>>(), count)
         .map_err(|e| fault(DocumentFault::Structure, field.into(), e.to_string()))?;
     Ok(order.iter().map(|&k| k as usize).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn glue_rows_read_back_bit_for_bit_with_negative_barycentric_weights() {
+        // A simulation mesh's readouts may fall outside their triangle (negative weights):
+        // the sides and weights are stored, never told from the coefficients' signs.
+        let rows = vec![
+            GlueRow::new(&[(0, 1.0)], &[(1, -0.25), (2, 0.5), (3, 0.75)], 100.0).unwrap(),
+            GlueRow::new(&[(4, 1.1), (5, -0.1)], &[(6, 1.0)], 0.3).unwrap(),
+        ];
+        let json = rows_json(&rows);
+        assert_eq!(read_rows(&json, 7).unwrap(), rows);
+        assert!(read_rows(&json, 6).unwrap_err().to_string().contains("glue.rows.vertices[1]"));
+        let mut bad = json.clone();
+        bad.upper[1] = 3;
+        assert!(read_rows(&bad, 7).unwrap_err().to_string().contains("glue.rows.upper[1]"));
+        let mut short = json;
+        short.weights.pop();
+        assert!(read_rows(&short, 7).unwrap_err().to_string().contains("glue.rows.weights"));
+    }
 }

@@ -25,10 +25,12 @@ mod player;
 mod puppet;
 mod track;
 
+pub(crate) use layered::rows_json;
+
 pub use bunraku_document::{
-    BlendJson, Document, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, MeshJson, MeshingJson,
-    OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson, SimulationJson, StarchJson,
-    TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION, VERSION,
+    AtlasJson, BlendJson, Document, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, MeshJson,
+    MeshingJson, OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson, SimulationJson,
+    StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION, VERSION,
 };
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
 pub use track::{Track, TrackOptions, MAX_PINS};

@@ -1,10 +1,10 @@
 //! A character as a puppet document's fields (`docs/puppet-document.md`): its mesh and
 //! texture coordinates, its simulation mesh, its parts, its glue (discs and rows) and its
-//! draw order, which [`crate::animation::Player`] plays. The pins, the track or the poses,
-//! and the picture (the atlas, saved as the caller chooses) are the caller's to add.
+//! draw order, and its atlas's size, which [`crate::animation::Player`] plays. The pins, the
+//! track or the poses, and where the atlas is saved (`atlas.url`) are the caller's to add.
 
 use bunraku_document::{
-    Document, GlueDiscJson, GlueJson, GlueRowsJson, MeshJson, PartJson, SimulationJson, FORMAT, VERSION,
+    AtlasJson, Document, GlueDiscJson, GlueJson, MeshJson, PartJson, SimulationJson, FORMAT, VERSION,
 };
 
 use super::{BlendMode, Character};
@@ -12,8 +12,9 @@ use super::{BlendMode, Character};
 impl Character {
     /// The document of this character at rest, with nothing to play: `mesh` (with `uvs` into
     /// the atlas), `simulation`, `parts`, `glue` (its discs and the rows they resolved to)
-    /// and `drawOrder`. `picture` is left out: it is the atlas ([`Character::atlas`]),
-    /// which the caller saves where it likes (a data URL, a file).
+    /// `drawOrder` and `atlas` with its size. `atlas.url` is left out: the atlas
+    /// ([`Character::atlas`]) is the caller's to save where it likes (a file, a data URL);
+    /// `picture` stays out, since the atlas is the character's texture.
     pub fn to_document(&self) -> Document {
         let flat = |points: &[[f64; 2]]| points.iter().flatten().copied().collect::<Vec<f64>>();
         let mesh = MeshJson {
@@ -42,14 +43,7 @@ impl Character {
                 visible: (!p.visible).then_some(false),
             })
             .collect();
-        let mut rows = GlueRowsJson { terms: Vec::new(), vertices: Vec::new(), coefficients: Vec::new() };
-        for row in &self.rows {
-            rows.terms.push(row.terms().count() as u32);
-            for (v, c) in row.terms() {
-                rows.vertices.push(v);
-                rows.coefficients.push(c);
-            }
-        }
+        let rows = crate::animation::rows_json(&self.rows);
         let discs = self
             .glue
             .iter()
@@ -76,6 +70,7 @@ impl Character {
             poses: None,
             track: None,
             parts: Some(parts),
+            atlas: Some(AtlasJson { url: None, width: self.atlas.width, height: self.atlas.height }),
             glue: Some(GlueJson { discs, rows }),
             draw_order: Some(self.draw_order.iter().map(|&k| k as u32).collect()),
             draw_order_track: None,

@@ -45,6 +45,10 @@ pub struct GlueRow {
     coefficients: [f64; 2 * SIDE],
     /// How many of `verts` are used.
     len: usize,
+    /// How many of them are the upper side's (the first ones).
+    upper: usize,
+    /// The row's weight.
+    weight: f64,
 }
 
 impl GlueRow {
@@ -54,22 +58,46 @@ impl GlueRow {
     /// Errors: [`Error::BadOption`] (name `"glue"`) for a side with no term or more than
     /// three, a weight that is not finite, or a row weight that is not finite and > 0.
     pub fn new(upper: &[(u32, f64)], lower: &[(u32, f64)], weight: f64) -> Result<GlueRow> {
+        let nonzero = |side: &[(u32, f64)]| side.iter().filter(|&&(_, b)| b != 0.0).count();
+        let (up, down) = (nonzero(upper), nonzero(lower));
+        let terms = upper.iter().map(|&(v, b)| (v, b)).chain(lower.iter().map(|&(v, b)| (v, -b)));
+        let terms = terms.filter(|&(_, b)| b != 0.0).map(|(v, b)| (v, weight * b));
+        Self::checked(up, down, terms, weight, upper.iter().chain(lower).all(|&(_, b)| b.is_finite()))
+    }
+
+    /// The row whose terms are `terms` (`(vertex, coefficient)`, the weight included, as
+    /// [`GlueRow::terms`] gives them), the first `upper` of them the upper side's: a row
+    /// read back from a document, bit for bit. Errors as [`GlueRow::new`].
+    pub fn from_terms(terms: &[(u32, f64)], upper: usize, weight: f64) -> Result<GlueRow> {
+        let down = terms.len().saturating_sub(upper);
+        let finite = terms.iter().all(|&(_, c)| c.is_finite());
+        Self::checked(upper.min(terms.len()), down, terms.iter().copied(), weight, finite)
+    }
+
+    /// The row of `terms` with `up` upper and `down` lower terms, once they are checked.
+    fn checked(
+        up: usize,
+        down: usize,
+        terms: impl Iterator<Item = (u32, f64)>,
+        weight: f64,
+        finite: bool,
+    ) -> Result<GlueRow> {
         let bad =
             |reason: &str| Error::BadOption { name: "glue", value: Some(weight), reason: reason.into() };
         if !(weight.is_finite() && weight > 0.0) {
             return Err(bad("(a glue weight) is not a finite number > 0"));
         }
-        if upper.is_empty() || lower.is_empty() || upper.len() > SIDE || lower.len() > SIDE {
+        if !(1..=SIDE).contains(&up) || !(1..=SIDE).contains(&down) {
             return Err(bad("(a glue row) needs one to three terms on each side"));
         }
-        if upper.iter().chain(lower).any(|&(_, b)| !b.is_finite()) {
+        if !finite {
             return Err(bad("(a glue row) has a weight that is not finite"));
         }
-        let mut row = GlueRow { verts: [0; 2 * SIDE], coefficients: [0.0; 2 * SIDE], len: 0 };
-        let sides = upper.iter().map(|&(v, b)| (v, b)).chain(lower.iter().map(|&(v, b)| (v, -b)));
-        for (v, c) in sides.filter(|&(_, c)| c != 0.0) {
+        let mut row =
+            GlueRow { verts: [0; 2 * SIDE], coefficients: [0.0; 2 * SIDE], len: 0, upper: up, weight };
+        for (v, c) in terms.take(up + down) {
             row.verts[row.len] = v;
-            row.coefficients[row.len] = weight * c;
+            row.coefficients[row.len] = c;
             row.len += 1;
         }
         Ok(row)
@@ -88,9 +116,14 @@ impl GlueRow {
         })
     }
 
-    /// The row's weight: the sum of its upper side's coefficients (its weights sum to 1).
-    pub(crate) fn weight(&self) -> f64 {
-        self.terms().filter(|&(_, c)| c > 0.0).map(|(_, c)| c).sum::<f64>().max(f64::MIN_POSITIVE)
+    /// The row's weight.
+    pub fn weight(&self) -> f64 {
+        self.weight
+    }
+
+    /// How many of [`GlueRow::terms`] are the upper side's (the first ones).
+    pub fn upper_terms(&self) -> usize {
+        self.upper
     }
 
     /// The largest vertex index the row reads.
@@ -197,6 +230,24 @@ mod tests {
         assert_eq!(r.terms().collect::<Vec<_>>(), vec![(0, 10.0), (1, -2.5), (2, -7.5)]);
         assert_eq!(r.weight(), 10.0);
         assert_eq!(r.last_vertex(), 2);
+    }
+
+    #[test]
+    fn a_row_with_negative_barycentric_weights_keeps_its_sides_and_weight() {
+        // A readout outside its triangle (a snapped bulge of a simulation mesh): one weight
+        // of each side is negative, so the coefficients' signs no longer tell the sides.
+        let r = GlueRow::new(&[(0, 1.25), (4, -0.25)], &[(1, -0.5), (2, 1.5)], 100.0).unwrap();
+        assert_eq!(r.weight(), 100.0);
+        assert_eq!(r.upper_terms(), 2);
+        let terms: Vec<_> = r.terms().collect();
+        assert_eq!(terms, vec![(0, 125.0), (4, -25.0), (1, 50.0), (2, -150.0)]);
+        assert_eq!(GlueRow::from_terms(&terms, 2, 100.0).unwrap(), r);
+        // Its gap is the residual over the weight: moving vertex 1 by 1 opens it by 0.5.
+        let x = |v: u32| if v == 1 { [1.0, 0.0] } else { [0.0, 0.0] };
+        assert_eq!(glue_gap(&[r], x), 0.5);
+        assert!(GlueRow::from_terms(&terms, 0, 100.0).is_err());
+        assert!(GlueRow::from_terms(&terms, 4, 100.0).is_err());
+        assert!(GlueRow::from_terms(&terms[..3], 2, f64::INFINITY).is_err());
     }
 
     #[test]

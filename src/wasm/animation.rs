@@ -75,8 +75,9 @@ export interface PuppetDocument {
   /** The method and `Puppet.register`'s options that pin tracks play with. */
   puppet?: { method?: Method; weights?: EdgeWeights; handleWeight?: number; iterations?: number;
              preserveArea?: boolean; termWeights?: TermWeights; maxSolves?: number; regularization?: number };
-  /** The pins the track drives: rest-space points, kinds, radii. */
-  pins?: { points: number[]; kinds?: PinKind[]; radius?: number[] };
+  /** The pins the track drives: rest-space points, kinds, radii, and on a layered character
+   *  each pin's part (an index into `parts`). */
+  pins?: { points: number[]; kinds?: PinKind[]; radius?: number[]; parts?: number[] };
   /** Starch regions (pin tracks). */
   starch?: { at: [number, number]; amount: number; extent: number }[];
   /** Overlap regions: `player.triangleDepth`. */
@@ -89,6 +90,20 @@ export interface PuppetDocument {
   track?: TrackJSON;
   /** The poses' weights over time. */
   weights?: WeightsJSON;
+  /** A layered character's parts (`character.toDocument()`), in the mesh's order. */
+  parts?: { name: string; group?: string; rect: [number, number, number, number];
+            vertices: [number, number]; triangles: [number, number];
+            atlasRect: [number, number, number, number]; opacity?: number;
+            blendMode?: "normal" | "multiply" | "screen" | "additive"; visible?: boolean }[];
+  /** A layered character's atlas, in place of `picture`: where it is and its size. */
+  atlas?: { url?: string; width: number; height: number };
+  /** A layered character's glue: its discs (parts by index) and the rows they resolved to. */
+  glue?: { discs: { upper: number; lower: number; at: [number, number]; radius: number | null; weight: number }[];
+           rows: { terms: number[]; vertices: number[]; coefficients: number[]; upper: number[]; weights: number[] } };
+  /** The parts' draw order: part indices, bottom first. */
+  drawOrder?: number[];
+  /** A keyed draw order (step interpolation): from `times[k]` on, the parts are drawn in `orders[k]`. */
+  drawOrderTrack?: { times: number[]; orders: number[][] };
   /** Which animation plays. Default: the track when there is one, else the weights. */
   play?: "track" | "weights";
   /** Repeat every `duration` seconds. Default `false`. */
@@ -480,6 +495,23 @@ impl JsPlayer {
                 super::set(&object, key, &JsValue::from(size));
             }
         }
+        object.into()
+    }
+
+    /// A layered character's atlas (`{ url?, width, height }`: the one texture its parts'
+    /// uvs refer to), or `undefined` for one picture.
+    #[wasm_bindgen(
+        getter,
+        unchecked_return_type = "{ url?: string; width: number; height: number } | undefined"
+    )]
+    pub fn atlas(&self) -> JsValue {
+        let Some(a) = &self.player.document().atlas else { return JsValue::UNDEFINED };
+        let object = Object::new();
+        if let Some(url) = &a.url {
+            super::set(&object, "url", &JsValue::from_str(url));
+        }
+        super::set(&object, "width", &JsValue::from(a.width));
+        super::set(&object, "height", &JsValue::from(a.height));
         object.into()
     }
 

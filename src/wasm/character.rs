@@ -311,14 +311,27 @@ impl JsCharacter {
 #[wasm_bindgen(js_class = Character)]
 impl JsCharacter {
     /// The character as a puppet document at rest (`PuppetDocument`): `mesh` with `uvs`
-    /// into the atlas, `simulation`, `parts`, `glue` (its discs and their rows) and
-    /// `drawOrder`. Add `picture` (the atlas, saved where you like), `pins` (with `parts`),
-    /// `puppet` and a `track` or `poses` and `weights` (and a `drawOrderTrack`), and
-    /// `Player.load` plays it.
+    /// into the atlas, `simulation`, `parts`, `glue` (its discs and their rows),
+    /// `drawOrder` and `atlas` (`{ url?, width, height }`). `options.atlasUrl` (a string):
+    /// where you saved the atlas (`character.atlas`), relative to the document or a `data:`
+    /// URL; without it `atlas` has no `url`. Add `pins` (with `parts`), `puppet` and a
+    /// `track` or `poses` and `weights` (and a `drawOrderTrack`), and `Player.load` plays
+    /// it. Throws `bad-type` or `bad-option` for other options.
     #[wasm_bindgen(js_name = toDocument, unchecked_return_type = "PuppetDocument")]
-    pub fn to_document(&self) -> Result<JsValue, Thrown> {
-        let text = self.0.borrow()?.to_document().to_json();
-        js_sys::JSON::parse(&text).map_err(|_| busy("the document"))
+    pub fn to_document(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "{ atlasUrl?: string }")] options: JsValue,
+    ) -> Result<JsValue, Thrown> {
+        let fields = Fields::open(&options, &["atlasUrl"])?;
+        let url = match fields.get("atlasUrl")? {
+            Some(v) => Some(v.as_string().ok_or_else(|| bad_type("options.atlasUrl", "a string", &v))?),
+            None => None,
+        };
+        let mut document = self.0.borrow()?.to_document();
+        if let Some(atlas) = document.atlas.as_mut() {
+            atlas.url = url;
+        }
+        js_sys::JSON::parse(&document.to_json()).map_err(|_| busy("the document"))
     }
 
     /// A `Blender` of the character's poses (`puppet.positions`), with `Blender.register`'s

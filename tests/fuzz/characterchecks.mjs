@@ -174,6 +174,8 @@ export function characterDocument(c, doc, lib) {
     diffData(c.glue.map((g) => ({ ...g, radius: g.radius === Infinity ? null : g.radius })), doc.glue?.discs ?? [], ".glue.discs"),
     diffData(Array.from(c.vertices), doc.mesh?.vertices, ".mesh.vertices"),
     diffData(Array.from(c.uvs), doc.mesh?.uvs, ".mesh.uvs"),
+    diffData(c.atlas.width, doc.atlas?.width, ".atlas.width"),
+    diffData(c.atlas.height, doc.atlas?.height, ".atlas.height"),
   ];
   const d = diffs.find((x) => x);
   if (d) return `toDocument: character ${d.replace(/given/, "holds").replace(/saved/, "document")}`;

@@ -137,7 +137,7 @@ export function addCharacters(add, lib) {
       return b;
     }), { rest, glued: true });
   }
-  // Character documents (toDocument, with a picture and an animation): a pin track on parts
+  // Character documents (toDocument, with the atlas's url and an animation): a pin track on parts
   // with a keyed draw order (played by a pool player), and weights of a pose of the
   // simulation mesh (for Player.load only: a player of it costs every check that reads it).
   const m1 = c1.meta;
@@ -145,13 +145,12 @@ export function addCharacters(add, lib) {
   const track = new lib.Track(3, { kinds: ["position", "position", "advanced"] });
   track.record(0, new Float64Array(points), new Float64Array([0, 1, 0, 1, 0, 1]));
   track.record(1, new Float64Array(points.map((x, i) => (i >= 4 ? x + 3 : x))), new Float64Array([0, 1, 0, 1, 0.5, 1.1]));
-  const picture = (c) => ({ url: "atlas.png", width: c.atlas.width, height: c.atlas.height });
-  const trackDoc = { ...c1.obj.toDocument(), picture: picture(c1.obj), pins: { points, kinds: track.kinds, parts: [0, 0, 1] }, puppet: { method: "two-step" },
+  const trackDoc = { ...c1.obj.toDocument({ atlasUrl: "atlas.png" }), pins: { points, kinds: track.kinds, parts: [0, 0, 1] }, puppet: { method: "two-step" },
     track: track.toJSON(), drawOrderTrack: { times: [0, 0.5], orders: [[0, 1, 2], [1, 0, 2]] }, loop: true };
   track.free();
-  const d3 = c3.obj.toDocument();
+  const d3 = c3.obj.toDocument({ atlasUrl: "atlas.png" });
   const rest = d3.simulation?.vertices ?? d3.mesh.vertices;
-  const weightDoc = { ...d3, picture: picture(c3.obj), poses: [{ positions: turned(rest, -0.2, 0.9) }], weights: { times: [0, 1], values: [0, 1] },
+  const weightDoc = { ...d3, poses: [{ positions: turned(rest, -0.2, 0.9) }], weights: { times: [0, 1], values: [0, 1] },
     drawOrderTrack: { times: [0.25], orders: [[1, 0]] } };
   return {
     layerSets: [{ layers: figure, glue: byName(c1, ["torso", "arm", "head"]) }, { layers: pair, glue: pairGlue }],

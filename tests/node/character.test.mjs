@@ -204,8 +204,16 @@ test("a large character gets a simulation mesh per part, glued the same", () => 
 
 test("a character document plays glued, with a keyed draw order, and round-trips", () => {
   const c = Character.fromLayers(figure(), { spacing: 6, simulationVertices: 0 });
-  const doc = c.toDocument();
+  const doc = c.toDocument({ atlasUrl: "hero-atlas.png" });
   assert.deepEqual(doc.parts.map((p) => p.name), ["torso", "arm", "head"]);
+  assert.deepEqual(doc.atlas, { url: "hero-atlas.png", width: c.atlas.width, height: c.atlas.height });
+  assert.equal(doc.picture, undefined, "a character's texture is its atlas");
+  assert.deepEqual(c.toDocument().atlas, { width: c.atlas.width, height: c.atlas.height }, "no url unless given");
+  assert.throws(() => c.toDocument({ atlasUrl: 3 }), (e) => e.code === "bad-type" && /atlasUrl/.test(e.message));
+  assert.throws(() => c.toDocument({ atlas: "x.png" }), (e) => e.code === "bad-option" && /atlas/.test(e.message));
+  const rows = doc.glue.rows;
+  assert.equal(rows.upper.length, rows.terms.length);
+  assert.ok(rows.weights.every((w) => w > 0));
   assert.deepEqual(doc.drawOrder, [0, 1, 2]);
   assert.ok(doc.glue.rows.terms.length > 0);
   const track = new Track(5);
@@ -220,6 +228,7 @@ test("a character document plays glued, with a keyed draw order, and round-trips
     drawOrderTrack: { times: [0.5], orders: [[1, 0, 2]] },
   });
   const player = Player.load(doc);
+  assert.deepEqual(player.atlas, doc.atlas);
   assert.deepEqual([...player.drawOrderAt(0.2)], [0, 1, 2]);
   assert.deepEqual([...player.drawOrderAt(0.5)], [1, 0, 2], "the key swaps the arm behind the torso");
   const end = player.positionsAt(1);
@@ -229,10 +238,11 @@ test("a character document plays glued, with a keyed draw order, and round-trips
   assert.ok(top < 30, `the arm rose to ${top}`);
   const again = Player.load(JSON.stringify(player));
   assert.deepEqual(again.toJSON(), player.toJSON());
-  const { parts, glue, drawOrder, drawOrderTrack, ...flat } = doc;
-  assert.ok(parts && glue && drawOrder && drawOrderTrack);
+  const { parts, glue, drawOrder, drawOrderTrack, atlas, ...flat } = doc;
+  assert.ok(parts && glue && drawOrder && drawOrderTrack && atlas);
   const one = Player.load({ ...flat, pins: { points: doc.pins.points } });
   assert.equal(one.drawOrderAt(0), null, "a document without parts is one picture");
+  assert.equal(one.atlas, undefined);
   one.free();
   assert.throws(() => Player.load({ ...doc, drawOrderTrack: { times: [0.5], orders: [[1, 1, 2]] } }), (e) => e.code === "bad-document" && /drawOrderTrack\.orders\[0\]/.test(e.message));
   for (const x of [player, again, track, c]) x.free();

@@ -1,7 +1,7 @@
 //! The fields of a layered character's document (issue 24): its parts, its glue (the discs
 //! and the rows they resolved to, so that playing never resolves them again), its draw order
-//! and the keyed draw order. `picture` is then the character's atlas. Each is optional: a
-//! document without `parts` is one picture, a one-part character.
+//! the keyed draw order, and its atlas (in place of `picture`). Each is optional: a document
+//! without `parts` is one picture, a one-part character.
 
 use serde::{Deserialize, Serialize};
 
@@ -35,6 +35,21 @@ pub struct PartJson {
     pub visible: Option<bool>,
 }
 
+/// A layered character's atlas (`character.atlas`): the one texture its parts' uvs refer
+/// to, and where it is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AtlasJson {
+    /// A URL, relative to the document's own, or a `data:` URL embedding the atlas (a PNG);
+    /// absent when the caller keeps the atlas itself.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub url: Option<String>,
+    /// Its width in texels.
+    pub width: u32,
+    /// Its height in texels.
+    pub height: u32,
+}
+
 /// The glue: its discs (`character.glue`) and the rows they resolved to on the solved mesh
 /// (the simulation mesh when the document has one).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -63,8 +78,10 @@ pub struct GlueDiscJson {
 }
 
 /// Glue rows, flat: row `k` has `terms[k]` terms, read in order from `vertices` and
-/// `coefficients` (the row is `Σ coefficient · x_vertex = 0`, weight included; the upper
-/// side's coefficients positive, the lower side's negative).
+/// `coefficients` (the row is `Σ coefficient · x_vertex = 0`, weight included), the first
+/// `upper[k]` of them the upper part's readout, the rest the lower part's (its barycentric
+/// weights negated), and weight `weights[k]`. The sides are stored, not told by the
+/// coefficients' signs: a readout outside its triangle has a negative weight.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GlueRowsJson {
@@ -74,6 +91,10 @@ pub struct GlueRowsJson {
     pub vertices: Vec<u32>,
     /// The terms' coefficients.
     pub coefficients: Vec<f64>,
+    /// Each row's number of upper-side terms, 1 to 3.
+    pub upper: Vec<u32>,
+    /// Each row's weight, > 0.
+    pub weights: Vec<f64>,
 }
 
 /// A keyed draw order (step interpolation): from `times[k]` on, the parts are drawn in

@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::character::{DrawOrderTrackJson, GlueJson, PartJson};
+use crate::character::{AtlasJson, DrawOrderTrackJson, GlueJson, PartJson};
 use crate::read::{from_text, header, MAX_POSES};
 use crate::{fault, fault_at, quoted, DocumentFault, Result};
 
@@ -68,9 +68,13 @@ pub struct Document {
     /// The pins' recorded motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub track: Option<TrackJson>,
-    /// A layered character's parts, in the mesh's order (`picture` is then its atlas).
+    /// A layered character's parts, in the mesh's order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub parts: Option<Vec<PartJson>>,
+    /// A layered character's atlas: the one texture its parts' `uvs` refer to (in place of
+    /// `picture`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atlas: Option<AtlasJson>,
     /// A layered character's glue: its discs and their rows.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glue: Option<GlueJson>,

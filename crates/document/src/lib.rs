@@ -13,7 +13,7 @@ mod character;
 mod document;
 pub mod read;
 
-pub use character::{DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
+pub use character::{AtlasJson, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
 pub use document::{
     check_header, BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson,
     PuppetJson, SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MIN_VERSION,
