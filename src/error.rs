@@ -8,6 +8,10 @@
 
 use std::fmt;
 
+mod checks;
+pub use checks::points_from_flat;
+pub(crate) use checks::{check_coordinates, check_finite, there_are_poses};
+
 /// Everything that can go wrong in bunraku. Nothing in the public API panics on bad
 /// input; it returns one of these instead and leaves earlier state untouched.
 #[derive(Debug, Clone, PartialEq)]
@@ -262,6 +266,21 @@ pub enum Error {
         /// The largest magnitude allowed.
         limit: f64,
     },
+    /// A parameter of a rig ([`crate::rig`]) that is not valid, does not exist or already
+    /// exists, or a key or value given for one that cannot be used: code `"bad-parameter"`,
+    /// or `"non-finite"` for a value that is not finite.
+    BadParameter {
+        /// The parameter's id, as given.
+        id: String,
+        /// What is at fault: `"id"`, `"min"`, `"max"`, `"default"`, `"keys"`, `"key"` (a
+        /// key value given for a keyform or a corrective), `"value"`, `"parameters"` (a
+        /// corrective's pair); empty for the parameter as a whole (one that does not exist).
+        field: &'static str,
+        /// The offending number, when one is at fault.
+        value: Option<f64>,
+        /// Why, after the field and the value.
+        reason: String,
+    },
     /// A time that is not finite, or a recorded time earlier than the last
     /// ([`crate::animation::Track::record`], [`crate::animation::Player::positions_into`]).
     BadTime {
@@ -367,7 +386,7 @@ impl Error {
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
     /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
     /// `"bad-pose"`, `"bad-time"`, `"empty-track"`, `"bad-document"`, `"bad-version"`,
-    /// `"bad-simulation"`, `"bad-layer"`. A
+    /// `"bad-simulation"`, `"bad-layer"`, `"bad-parameter"`. A
     /// wrong count of items ([`Error::CountMismatch`]) is a `"bad-length"` too; a bad blend
     /// weight ([`Error::BadWeight`]) is `"non-finite"` or `"too-large"`; a bad document's
     /// code follows its [`DocumentFault`].
@@ -403,6 +422,8 @@ impl Error {
             Error::BadPose { .. } => "bad-pose",
             Error::BadWeight { value, .. } if !value.is_finite() => "non-finite",
             Error::BadWeight { .. } => "too-large",
+            Error::BadParameter { value: Some(x), .. } if !x.is_finite() => "non-finite",
+            Error::BadParameter { .. } => "bad-parameter",
             Error::BadTime { .. } => "bad-time",
             Error::EmptyTrack => "empty-track",
             Error::BadSimulation { .. } => "bad-simulation",
@@ -522,6 +543,11 @@ impl Error {
             Error::BadWeight { index, value, limit } => {
                 format!("weights: weight {index} is {}, not a finite number within ±{}", n(*value), n(*limit))
             }
+            Error::BadParameter { id, field: "", reason, .. } => format!("parameter {} {reason}", Quoted(id)),
+            Error::BadParameter { id, field, value, reason } => {
+                let value = value.map(|x| format!("{} ", n(x))).unwrap_or_default();
+                format!("parameter {}: {field} {value}{reason}", Quoted(id))
+            }
             Error::BadTime { time, reason } => format!("time {} {reason}", n(*time)),
             Error::EmptyTrack => "the track has no sample".to_string(),
             Error::BadSimulation { what, index, reason } => format!("simulation.{what}[{index}]: {reason}"),
@@ -540,53 +566,6 @@ impl std::error::Error for Error {}
 
 /// Shorthand for results in this crate.
 pub type Result<T> = std::result::Result<T, Error>;
-
-/// Checks that every coordinate of `points` is finite, naming the first bad item.
-pub(crate) fn check_finite<T: Copy + Into<f64>, const D: usize>(
-    what: &'static str,
-    points: &[[T; D]],
-) -> Result<()> {
-    for (index, p) in points.iter().enumerate() {
-        for (c, &value) in p.iter().enumerate() {
-            let value: f64 = value.into();
-            if !value.is_finite() {
-                return Err(Error::NonFinite { what, index, flat: D * index + c, value });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Checks that every coordinate of `points` is finite ([`Error::NonFinite`]) and within
-/// ±[`crate::limits::MAX_COORDINATE`] ([`Error::TooLarge`]), naming the first that is not.
-pub(crate) fn check_coordinates(what: &'static str, points: &[[f64; 2]]) -> Result<()> {
-    check_finite(what, points)?;
-    let limit = crate::limits::MAX_COORDINATE;
-    for (index, p) in points.iter().enumerate() {
-        if let Some(c) = (0..2).find(|&c| p[c].abs() > limit) {
-            return Err(Error::TooLarge { what, index, flat: 2 * index + c, value: p[c], limit });
-        }
-    }
-    Ok(())
-}
-
-/// How many poses a blender has, as [`Error::BadPose`] says it: `there are no poses`,
-/// `there is 1 pose`, `there are 3 poses`.
-pub(crate) fn there_are_poses(count: usize) -> String {
-    match count {
-        0 => "there are no poses".into(),
-        1 => "there is 1 pose".into(),
-        n => format!("there are {n} poses"),
-    }
-}
-
-/// Reinterprets a flat `[x0, y0, x1, y1, …]` slice as points, checking its length.
-pub fn points_from_flat(what: &'static str, flat: &[f64]) -> Result<Vec<[f64; 2]>> {
-    if flat.len() % 2 != 0 {
-        return Err(Error::BadLength { what, len: flat.len(), expected: "a multiple of 2".into() });
-    }
-    Ok(flat.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
-}
 
 pub use bunraku_document::DocumentFault;
 

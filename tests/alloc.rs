@@ -152,3 +152,35 @@ fn blend_into_does_not_allocate() {
         assert!(common::max_dist(&out, &shape.vertices) > 1.0, "the blends did something");
     }
 }
+
+#[test]
+fn rig_set_value_and_pose_into_do_not_allocate() {
+    use bunraku::rig::{Parameter, Rig, RigOptions};
+    let shape = Grid::new(30, 30).jitter(0.2, 5).shape();
+    let n = shape.vertices.len();
+    let mut rig = Rig::register(shape.mesh(), RigOptions::default()).unwrap();
+    rig.add_parameter(Parameter::new("a", -1.0, 1.0, 0.0, vec![-1.0, 0.0, 1.0])).unwrap();
+    rig.add_parameter(Parameter::new("b", 0.0, 1.0, 0.0, vec![0.0, 1.0]).extrapolating(true)).unwrap();
+    let bent = |a: f64, d: f64| -> Vec<[f64; 2]> {
+        shape.vertices.iter().map(|p| [p[0] + d, p[1] + a * (p[0] / 10.0).sin()]).collect()
+    };
+    rig.set_keyform("a", -1.0, &bent(-2.0, 0.0)).unwrap();
+    rig.set_keyform("a", 1.0, &bent(2.0, 1.0)).unwrap();
+    rig.set_keyform("b", 1.0, &bent(0.5, -1.0)).unwrap();
+    rig.add_corrective(["a", "b"], [1.0, 1.0], &bent(3.0, 2.0)).unwrap();
+    let mut out = vec![[0.0; 2]; n];
+    let mut weights = vec![0.0; rig.weight_count()];
+    let mut sum = 0.0;
+    let (count, ()) = allocations(|| {
+        for (a, b) in [(0.0, 0.0), (0.5, 0.5), (-0.7, 1.4), (1.0, 1.0), (3.0, -0.2)] {
+            rig.set_value("a", a).unwrap();
+            rig.set_value("b", b).unwrap();
+            rig.pose_into(&mut out).unwrap();
+            rig.weights_into(&mut weights).unwrap();
+            sum += out[n / 2][1] + weights[0];
+        }
+    });
+    assert!(sum.is_finite());
+    assert_eq!(count, 0, "{count} allocations in 5 poses");
+    assert!(common::max_dist(&out, &shape.vertices) > 1.0, "the poses did something");
+}

@@ -268,6 +268,31 @@ impl Blender {
         Ok(self.poses.len() - 1)
     }
 
+    /// [`Blender::add_pose_with`] with the angles unwrapped towards a weighted sum of
+    /// existing poses' angles, triangle by triangle: each connected piece's median of `θ_t −
+    /// Σ_k c_k θ_{k,t}` lands in `[−π, π]` for `near = [(k, c_k), …]` (empty: towards the
+    /// rest). [`Reference::Pose`]`(j)` is `near = [(j, 1)]`; the rig (`crate::rig`) unwraps a
+    /// corrective near the sum of its parameters' keyforms' angles. Errors: those of
+    /// [`Blender::add_pose_with`], and [`Error::BadPose`] for a pose of `near` that does not
+    /// exist, leaving the blender as it was.
+    pub(crate) fn add_pose_near(
+        &mut self,
+        positions: &[[f64; 2]],
+        flipped: Flipped,
+        near: &[(usize, f64)],
+    ) -> Result<usize> {
+        if let Some(&(j, _)) = near.iter().find(|(j, _)| *j >= self.poses.len()) {
+            return Err(self.bad_pose(j));
+        }
+        let (mesh, stitch, rest, store) = (&self.mesh, &self.stitch, &self.rest_centroids, &self.store);
+        let reference = |t| near.iter().map(|&(k, c)| c * store.theta(k, t)).sum::<f64>();
+        let (pose, logs) = Pose::new(mesh, stitch, rest, positions, flipped, reference)?;
+        self.store.push(&logs);
+        self.poses.push(pose);
+        self.active.reserve(self.poses.len());
+        Ok(self.poses.len() - 1)
+    }
+
     /// Removes pose `index`; the poses after it move down by one. Errors:
     /// [`Error::BadPose`].
     pub fn remove_pose(&mut self, index: usize) -> Result<()> {
