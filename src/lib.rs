@@ -32,6 +32,7 @@ pub mod blend;
 pub mod character;
 pub mod conventions;
 pub mod deform;
+pub mod dynamics;
 pub mod error;
 pub mod flatten;
 mod geometry;

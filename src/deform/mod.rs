@@ -56,7 +56,7 @@ pub use clock::set_clock;
 pub use glue::{glue_gap, GlueRow};
 pub use injective::{Report, PIN_TOLERANCE, VISIBLY_SETTLED};
 pub use pin_set::DISC_STIFFNESS;
-pub(crate) use pinned::check_targets;
+pub(crate) use pinned::{check_rotations, check_targets};
 pub use pinned::{Pinned, PoseState};
 pub use pins::{with_default_radii, Handle, Pin, PinKind, Rotation, Target, DEFAULT_ROTATION_RADIUS};
 pub use rest::Rest;
