@@ -246,6 +246,13 @@ impl From<Error> for Thrown {
                 }
             }
             Error::BadTime { time, .. } => t.with("value", time),
+            Error::BadParameter { id, field, value, .. } => {
+                let t = t.with("parameter", id.as_str()).with("field", field);
+                match value {
+                    Some(x) => t.with("value", x),
+                    None => t,
+                }
+            }
             Error::BadSimulation { what, index, .. } => {
                 t.with("field", format!("simulation.{what}")).with("index", index)
             }

@@ -7,6 +7,8 @@
 //! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
 //! | `animation` | `Track` (recorded pin motion) and `Player` (puppet documents) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
+//! | `dynamics` | `Dynamics`: springs on a puppet's secondary pins, on a fixed tick |
+//! | `rig` | `Rig`: named parameters whose values pick keyforms, in one blend |
 //! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
 //! | `render` | `Renderer`: textured meshes into RGBA pixels |
 //! | `flatten` | `flatten`, `surfaceFromOBJ`; `Quality` and `Flattening` results |
@@ -27,6 +29,7 @@
 mod animation;
 mod blend;
 mod character;
+mod dynamics;
 mod errors;
 mod flatten;
 mod mesh;
@@ -34,15 +37,18 @@ mod options;
 mod pins;
 mod puppet;
 mod render;
+mod rig;
 mod simulation;
 
 pub use animation::{JsPlayer, JsTrack};
 pub use blend::JsBlender;
+pub use dynamics::JsDynamics;
 pub use errors::Thrown;
 pub use flatten::{flatten_surface, surface_from_obj};
 pub use mesh::JsMesh;
 pub use puppet::Puppet;
 pub use render::JsRenderer;
+pub use rig::JsRig;
 
 use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
 use wasm_bindgen::prelude::wasm_bindgen;

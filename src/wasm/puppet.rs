@@ -366,6 +366,16 @@ impl Puppet {
         Ok(self.rendered.as_flattened())
     }
 
+    /// The compiled pins' rest points as the caller gave them (`handles`) and their kinds,
+    /// or `None` before any compile.
+    pub(crate) fn pin_rest(&self) -> Option<(Vec<[f64; 2]>, Vec<crate::PinKind>)> {
+        let p = self.pinned.as_ref()?;
+        let offsets = &self.placed.offsets;
+        let points = p.handle_points().iter().enumerate();
+        let points = points.map(|(k, q)| offsets.get(k).map_or(*q, |d| [q[0] - d[0], q[1] - d[1]]));
+        Some((points.collect(), p.pins().iter().map(|pin| pin.kind).collect()))
+    }
+
     /// The positions of the last update (the rest shape before the first), one per
     /// rendered vertex.
     fn current(&self) -> &[[f64; 2]] {
@@ -433,14 +443,7 @@ impl Puppet {
     /// the rest shape.
     #[wasm_bindgen(getter)]
     pub fn handles(&self) -> Float64Array {
-        let points = self.pinned.as_ref().map_or(&[][..], |p| p.handle_points());
-        let offsets = &self.placed.offsets;
-        let given: Vec<[f64; 2]> = points
-            .iter()
-            .enumerate()
-            .map(|(k, q)| offsets.get(k).map_or(*q, |d| [q[0] - d[0], q[1] - d[1]]))
-            .collect();
-        flat(&given)
+        flat(&self.pin_rest().map(|(points, _)| points).unwrap_or_default())
     }
 
     /// The positions computed by the last update (the rest shape before the first).
