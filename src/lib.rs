@@ -33,6 +33,7 @@ pub mod character;
 pub mod conventions;
 pub mod deform;
 pub mod dynamics;
+pub mod easing;
 pub mod error;
 pub mod flatten;
 mod geometry;
@@ -55,6 +56,7 @@ pub mod wasm;
 
 pub use blend::{BlendOptions, Blender};
 pub use deform::{EdgeWeights, Handle, Options, Pin, PinKind, Pinned, Rest, Rotation, Target};
+pub use easing::{CubicBezier, Easing};
 pub use error::{Error, Result};
 pub use flatten::{flatten, FlattenOptions, Flattening, VertexPin};
 pub use locate::Location;

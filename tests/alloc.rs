@@ -1,7 +1,7 @@
 //! `Pinned::update` and `Pinned::update_into` allocate nothing after `compile`, with every
 //! method (two-step, regularised two-step, nonlinear with and without the area constraint,
-//! injective), checked with a counting global allocator. Its own test binary, because the
-//! allocator is global.
+//! injective), checked with a counting global allocator; nor do `Blender::blend_into` and
+//! `KeyTrack::value_into`. Its own test binary, because the allocator is global.
 
 mod common;
 
@@ -183,4 +183,42 @@ fn rig_set_value_and_pose_into_do_not_allocate() {
     assert!(sum.is_finite());
     assert_eq!(count, 0, "{count} allocations in 5 poses");
     assert!(common::max_dist(&out, &shape.vertices) > 1.0, "the poses did something");
+}
+
+#[test]
+fn key_track_value_into_does_not_allocate() {
+    use bunraku::animation::{Interp, KeyTrack, KeyTrackOptions, ValueSpace};
+    use bunraku::CubicBezier;
+    for space in [ValueSpace::Linear, ValueSpace::Log] {
+        let mut track = KeyTrack::new(2, KeyTrackOptions { space, ..KeyTrackOptions::default() }).unwrap();
+        let eases = [
+            None,
+            Some(CubicBezier::from_keyword("ease").unwrap()),
+            Some(CubicBezier::new(0.1, -1.0, 0.9, 2.0).unwrap()),
+        ];
+        let made = allocations(|| {
+            for k in 0..30 {
+                let interp = if k % 4 == 3 { Some(Interp::Hold) } else { None };
+                let ease = if interp.is_some() { None } else { eases[k % 3] };
+                track
+                    .add_key(k as f64 * 0.25, &[1.0 + k as f64, 2.0 + (k % 5) as f64], interp, ease)
+                    .unwrap();
+            }
+        })
+        .0;
+        assert!(made > 0, "adding keys allocates; the counter must see it");
+        let mut out = [0.0; 2];
+        let mut sum = 0.0;
+        let (count, ()) = allocations(|| {
+            for i in 0..2000 {
+                track.value_into(i as f64 * 0.004 - 0.5, &mut out).unwrap();
+                sum += out[0] + out[1];
+                // A failed call allocates nothing either.
+                assert!(track.value_into(f64::NAN, &mut out).is_err());
+                assert!(track.value_into(0.0, &mut out[..1]).is_err());
+            }
+        });
+        assert!(sum.is_finite() && sum > 0.0);
+        assert_eq!(count, 0, "{space:?}: {count} allocations in 2000 evaluations");
+    }
 }

@@ -9,6 +9,8 @@
 //! | module | what |
 //! |---|---|
 //! | `track` | [`Track`]: time-stamped targets and rotations per pin; linear playback |
+//! | `keys` | [`KeyTrack`]: keys of one value, linear, held or eased ([`crate::easing`]) between them |
+//! | `keys_json` | a [`KeyTrack`]'s keys as JSON data ([`KeyJson`]), checked when read |
 //! | `document` | [`Document`]: the JSON document, its header and field checks |
 //! | `player` | [`Player`]: positions at any time, through a [`crate::Pinned`] or a [`crate::Blender`] |
 //! | `carried` | a document's simulation mesh: what the player solves on, gathered back to the mesh |
@@ -20,6 +22,8 @@
 //! whatever the frame rate (the injective method: see [`Player`]).
 
 mod carried;
+mod keys;
+mod keys_json;
 mod layered;
 mod player;
 mod puppet;
@@ -28,10 +32,12 @@ mod track;
 pub(crate) use layered::rows_json;
 
 pub use bunraku_document::{
-    AtlasJson, BlendJson, Document, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, MeshJson,
-    MeshingJson, OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson, SimulationJson,
-    StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MAX_POSES, MIN_VERSION, VERSION,
+    AtlasJson, BlendJson, Document, DrawOrderTrackJson, EaseJson, GlueDiscJson, GlueJson, GlueRowsJson,
+    KeyJson, MeshJson, MeshingJson, OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson,
+    SimulationJson, StarchJson, TermWeightsJson, TrackJson, ValueJson, WeightsJson, FORMAT, MAX_KEYS,
+    MAX_POSES, MIN_VERSION, VERSION,
 };
+pub use keys::{Interp, Key, KeyTrack, KeyTrackOptions, ValueSpace, MAX_DIMS, MAX_TIME};
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};
 pub use track::{Track, TrackOptions, MAX_PINS};
 

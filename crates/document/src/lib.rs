@@ -11,6 +11,7 @@
 
 mod character;
 mod document;
+mod keys;
 pub mod read;
 
 pub use character::{AtlasJson, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
@@ -19,6 +20,7 @@ pub use document::{
     PuppetJson, SimulationJson, StarchJson, TermWeightsJson, TrackJson, WeightsJson, FORMAT, MIN_VERSION,
     VERSION,
 };
+pub use keys::{EaseJson, KeyJson, ValueJson, MAX_KEYS, MAX_KEY_DIMS};
 pub use read::MAX_POSES;
 
 /// What is wrong with a puppet document or a track's JSON, which decides the error's code

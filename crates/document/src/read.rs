@@ -190,22 +190,35 @@ where
             write!(f, "an array of at most {N} items")
         }
 
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> std::result::Result<Vec<T>, A::Error> {
-            if let Some(n) = seq.size_hint().filter(|&n| n > N) {
-                return Err(de::Error::invalid_length(n, &self));
-            }
-            let mut items = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(N));
-            while let Some(item) = seq.next_element()? {
-                if items.len() == N {
-                    return Err(de::Error::invalid_length(N + 1, &self));
-                }
-                items.push(item);
-            }
-            Ok(items)
+        fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> std::result::Result<Vec<T>, A::Error> {
+            bounded::<_, T, N>(seq, &self)
         }
     }
 
     deserializer.deserialize_seq(Bounded::<T, N>(std::marker::PhantomData)).map(Some)
+}
+
+/// The items of `seq`, at most `N` (an error saying `expected` beyond), counted from the
+/// length the input announces before any item is read.
+pub(crate) fn bounded<'de, A, T, const N: usize>(
+    mut seq: A,
+    expected: &dyn de::Expected,
+) -> std::result::Result<Vec<T>, A::Error>
+where
+    A: SeqAccess<'de>,
+    T: Deserialize<'de>,
+{
+    if let Some(n) = seq.size_hint().filter(|&n| n > N) {
+        return Err(de::Error::invalid_length(n, expected));
+    }
+    let mut items = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(N));
+    while let Some(item) = seq.next_element()? {
+        if items.len() == N {
+            return Err(de::Error::invalid_length(N + 1, expected));
+        }
+        items.push(item);
+    }
+    Ok(items)
 }
 
 #[cfg(test)]
