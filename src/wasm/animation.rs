@@ -535,23 +535,35 @@ fn bad(field: &str, reason: String) -> Thrown {
 /// serde_json reader ([`crate::animation`]), whose recursion limit bounds the nesting of any
 /// input and whose numbers are only numbers (a NaN, which `JSON.stringify` writes as
 /// `null`, is an error).
-fn json_text(value: JsValue) -> Result<String, Thrown> {
+pub(crate) fn json_text(value: JsValue) -> Result<String, Thrown> {
+    if value.as_string().is_none() && (!value.is_object() || Array::is_array(&value)) {
+        return Err(bad("", format!("expected an object or its JSON text, got {}", describe(&value))));
+    }
+    json_text_of(value, "")
+}
+
+/// The JSON text of `value`, given as a JS value (an object or an array) or as its text;
+/// errors under `root` (`"keys"`).
+pub(crate) fn json_text_of(value: JsValue, root: &str) -> Result<String, Thrown> {
     if let Some(js) = value.dyn_ref::<js_sys::JsString>() {
         // A lone surrogate would become U+FFFD in Rust's string: saved differently.
         if !js.is_valid_utf16() {
-            return Err(bad("", "holds a lone surrogate (text that is not valid UTF-16)".into()));
+            return Err(bad(root, "holds a lone surrogate (text that is not valid UTF-16)".into()));
         }
     }
     if let Some(text) = value.as_string() {
         return Ok(text);
     }
-    if !value.is_object() || Array::is_array(&value) {
-        return Err(bad("", format!("expected an object or its JSON text, got {}", describe(&value))));
+    if !value.is_object() {
+        return Err(bad(
+            root,
+            format!("expected an object, an array or its JSON text, got {}", describe(&value)),
+        ));
     }
     js_sys::JSON::stringify(&value)
         .ok()
         .and_then(|text| text.as_string())
-        .ok_or_else(|| bad("", "could not be read as JSON (it nests too deep or holds a cycle)".into()))
+        .ok_or_else(|| bad(root, "could not be read as JSON (it nests too deep or holds a cycle)".into()))
 }
 
 /// Numbers as a plain JS array (what `JSON.stringify` writes as a list).

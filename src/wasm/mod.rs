@@ -6,6 +6,7 @@
 //! |---|---|
 //! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
 //! | `animation` | `Track` (recorded pin motion) and `Player` (puppet documents) |
+//! | `keys` | `Easing` (CSS cubic Béziers, exact in f64) and `KeyTrack` (eased keyframes) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
 //! | `dynamics` | `Dynamics`: springs on a puppet's secondary pins, on a fixed tick |
 //! | `rig` | `Rig`: named parameters whose values pick keyforms, in one blend |
@@ -32,6 +33,7 @@ mod character;
 mod dynamics;
 mod errors;
 mod flatten;
+mod keys;
 mod mesh;
 mod options;
 mod pins;
@@ -45,6 +47,7 @@ pub use blend::JsBlender;
 pub use dynamics::JsDynamics;
 pub use errors::Thrown;
 pub use flatten::{flatten_surface, surface_from_obj};
+pub use keys::{JsEasing, JsKeyTrack};
 pub use mesh::JsMesh;
 pub use puppet::Puppet;
 pub use render::JsRenderer;
