@@ -273,6 +273,11 @@ fn track_document_at(method: &str, rate: usize) -> Document {
         draw_order: None,
         draw_order_track: None,
         weights: None,
+        tick: None,
+        parameters: None,
+        grids: None,
+        channels: None,
+        dynamics: None,
         play: None,
         looping: None,
         duration: None,
@@ -442,9 +447,9 @@ fn named_errors_for_bad_documents() {
         assert!(text.contains(from), "{from}");
         Player::from_json(&text.replacen(from, to, 1)).unwrap_err()
     };
-    let e = with("\"version\":2", "\"version\":3");
+    let e = with("\"version\":3", "\"version\":4");
     assert_eq!(e.code(), "bad-version", "{e}");
-    assert!(e.to_string().contains("version: 3 is not a version"), "{e}");
+    assert!(e.to_string().contains("version: 4 is not a version"), "{e}");
     assert_eq!(with("\"format\":\"bunraku-puppet\"", "\"format\":\"lottie\"").code(), "bad-document");
     let e = with("\"mesh\":", "\"mash\":");
     assert_eq!(e.code(), "bad-document");

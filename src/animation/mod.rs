@@ -21,13 +21,18 @@
 //! between two samples; stateless methods then give the same positions for the same time
 //! whatever the frame rate (the injective method: see [`Player`]).
 
+mod baked;
 mod carried;
+mod channels;
+mod keyed;
 mod keys;
 mod keys_json;
 mod layered;
 mod player;
+mod posed;
 mod puppet;
 mod track;
+mod weights;
 
 pub(crate) use layered::rows_json;
 

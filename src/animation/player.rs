@@ -1,20 +1,21 @@
 //! [`Player`]: a puppet document's positions at any time.
 
+use super::channels::Channels;
+use super::keyed::{check_motion_version, keyed, refuse_springs, sprung_track, Exact};
 use super::layered::{glue_rows, Layered};
+use super::posed::{parameter_ids, Posed};
 use super::puppet::register_options;
 use super::track::parse_kind;
+use super::weights::{blend, Blended};
 use super::{carried, Track, TrackOptions};
-use super::{
-    check_finite_values, check_len, check_times, check_values, fault, fault_at, lerp, segment, DocumentFault,
-};
-use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
+use super::{check_finite_values, check_len, check_values, fault, fault_at, lerp, segment, DocumentFault};
 use crate::deform::{GlueRow, PoseState};
 use crate::deform::{Method, Overlap, Starch};
 use crate::error::{Error, Quoted, Result};
 use crate::meshing::ShapeMesh;
 use crate::simulation::{Embedding, PlacedPins};
 use crate::{Handle, Mesh, Pin, Pinned, Rest, Rotation};
-use bunraku_document::{check_header, Document, PinsJson, TrackJson, WeightsJson};
+use bunraku_document::{check_header, Document, PinsJson, TrackJson};
 
 /// The injective method's counted budget per update in a [`Player`] when the document
 /// gives no `puppet.maxSolves`: back-substitutions, about one per conjugate-gradient step.
@@ -37,6 +38,9 @@ pub enum Mode {
     Track,
     /// The poses blended along the weight track.
     Weights,
+    /// Keyed channels (version 3): pins' targets through the method, or parameters
+    /// (keyforms blended by a [`crate::rig::Rig`]) or poses' weights.
+    Channels,
 }
 
 /// A puppet document ready to play: the positions of the mesh at any time `t`, in
@@ -75,28 +79,33 @@ pub struct Player {
     depths: Vec<f32>,
     duration: f64,
     looping: bool,
+    mode: Mode,
     engine: Engine,
     /// A layered character's parts and draw order.
     layered: Option<Layered>,
 }
 
 #[derive(Debug)]
-enum Engine {
+pub(super) enum Engine {
     Still,
     Track(Box<Driven>),
     Weights(Box<Blended>),
+    Posed(Box<Posed>),
 }
 
 /// A track driving pins.
 #[derive(Debug)]
-struct Driven {
+pub(super) struct Driven {
     pinned: Pinned,
+    /// A stateless method's pins from their channels or through springs, exactly at every
+    /// time (the track is then their sampling on the tick, which the injective method plays).
+    pub(super) exact: Option<Exact>,
     /// On a simulation mesh: the pins as placed there, and their targets.
     placed: Option<(PlacedPins, Vec<[f64; 2]>)>,
     track: Track,
     targets: Vec<[f64; 2]>,
     rotations: Vec<Rotation>,
-    injective: bool,
+    pub(super) injective: bool,
     /// Injective: the state after sample `j · stride` for `j < states.len()` (see
     /// [`Driven::walk_to`]), kept as far as the player has walked.
     states: Vec<PoseState>,
@@ -109,15 +118,6 @@ struct Driven {
     around: Option<usize>,
     before: PoseState,
     after: PoseState,
-}
-
-/// Poses blended along a weight track.
-#[derive(Debug)]
-struct Blended {
-    blender: Blender,
-    times: Vec<f64>,
-    values: Vec<f64>,
-    weights: Vec<f64>,
 }
 
 impl Player {
@@ -160,16 +160,20 @@ impl Player {
                 return Err(fault_at(DocumentFault::Structure, "duration".into(), t, "is not a time ≥ 0"));
             }
         }
+        check_motion_version(d)?;
+        let animated = d.channels.is_some() || d.parameters.is_some();
         let mode = match (d.play.as_deref(), &d.track, &d.weights) {
             (Some("track"), Some(_), _) | (None, Some(_), _) => Mode::Track,
             (Some("weights"), _, Some(_)) | (None, None, Some(_)) => Mode::Weights,
+            (Some("channels"), _, _) if animated => Mode::Channels,
+            (None, None, None) if animated => Mode::Channels,
             (None, None, None) => Mode::Still,
-            (Some(p @ ("track" | "weights")), _, _) => {
+            (Some(p @ ("track" | "weights" | "channels")), _, _) => {
                 let reason = format!("is {}, but the document has no {p}", Quoted(p));
                 return Err(fault(DocumentFault::Structure, "play".into(), reason));
             }
             (Some(p), _, _) => {
-                let reason = format!("{} is not \"track\" or \"weights\"", Quoted(p));
+                let reason = format!("{} is not \"track\", \"weights\" or \"channels\"", Quoted(p));
                 return Err(fault(DocumentFault::Structure, "play".into(), reason));
             }
         };
@@ -184,22 +188,31 @@ impl Player {
         let solved = embedding.as_ref().map_or(&mesh, |e| e.simulation().mesh());
         let layered = Layered::new(d, &mesh)?;
         let glue = glue_rows(d, solved.vertices().len())?;
+        let ids = parameter_ids(d);
+        let pose_count = d.poses.as_ref().map_or(0, Vec::len);
+        let pin_count = d.pins.as_ref().map_or(0, |p| p.points.len() / 2);
+        let channels = Channels::new(d, &ids, pin_count, pose_count)?;
+        let on = Rendered { mesh: &mesh, embedding: embedding.as_ref(), layered: layered.as_ref(), glue };
         let (engine, end) = match mode {
             Mode::Still => (Engine::Still, 0.0),
             Mode::Track => {
                 let json = d.track.as_ref().ok_or(Error::EmptyTrack)?;
-                let on =
-                    Rendered { mesh: &mesh, embedding: embedding.as_ref(), layered: layered.as_ref(), glue };
-                let driven = drive(solved, d, json, &on)?;
-                let end = driven.track.end();
+                let track = Track::from_json_at(json, "track", &TrackOptions::default())?;
+                let end = track.end();
+                let driven = match sprung_track(solved, d, json, track, &on)? {
+                    Some(driven) => driven,
+                    None => drive(solved, d, json, &on)?,
+                };
                 (Engine::Track(Box::new(driven)), end)
             }
             Mode::Weights => {
+                refuse_springs(d)?;
                 let json = d.weights.as_ref().ok_or(Error::EmptyTrack)?;
-                let blended = blend(solved, d, json, &glue)?;
+                let blended = blend(solved, d, json, &on.glue)?;
                 let end = blended.times.last().copied().unwrap_or(0.0);
                 (Engine::Weights(Box::new(blended)), end)
             }
+            Mode::Channels => (keyed(solved, d, &channels, &on)?, channels.end),
         };
         let carrier = embedding.map(|e| {
             let n = e.simulation().mesh().vertices().len();
@@ -207,7 +220,7 @@ impl Player {
         });
         let duration = d.duration.unwrap_or(end.max(0.0));
         let looping = d.looping.unwrap_or(false);
-        Ok(Player { document, mesh, carrier, uvs, depths, duration, looping, engine, layered })
+        Ok(Player { document, mesh, carrier, uvs, depths, duration, looping, mode, engine, layered })
     }
 
     /// [`Document::from_json`] and [`Player::new`]. (Native only.)
@@ -223,11 +236,32 @@ impl Player {
 
     /// What plays.
     pub fn mode(&self) -> Mode {
-        match self.engine {
-            Engine::Still => Mode::Still,
-            Engine::Track(_) => Mode::Track,
-            Engine::Weights(_) => Mode::Weights,
+        self.mode
+    }
+
+    /// Overrides parameter `id`'s value from now on (`Some`; a slider), or gives it back to
+    /// its channel (`None`). Errors, nothing changed: [`Error::BadParameter`] for a
+    /// document without parameters, an unknown id, or a value the parameter refuses (not
+    /// finite, extrapolated too far).
+    pub fn set_value(&mut self, id: &str, value: Option<f64>) -> Result<()> {
+        match &mut self.engine {
+            Engine::Posed(r) => r.set_value(id, value),
+            _ => Err(Error::BadParameter {
+                id: id.into(),
+                field: "",
+                value: None,
+                reason: "does not exist (the document plays no parameters)".into(),
+            }),
         }
+    }
+
+    /// The parameters the document plays (none unless it plays its parameters).
+    pub fn parameters(&self) -> impl Iterator<Item = &crate::rig::Parameter> {
+        let posed = match &self.engine {
+            Engine::Posed(r) => Some(r.parameters()),
+            _ => None,
+        };
+        posed.into_iter().flatten()
     }
 
     /// The rest mesh (triangles counter-clockwise).
@@ -278,14 +312,25 @@ impl Player {
             Engine::Still => {}
             Engine::Track(d) => d.positions_into(t, solved)?,
             Engine::Weights(b) => {
-                let (k, s) = segment(&b.times, t);
-                let p = b.weights.len();
-                for (i, w) in b.weights.iter_mut().enumerate() {
-                    let a = b.values[k * p + i];
-                    *w = if s == 0.0 { a } else { lerp(a, b.values[(k + 1) * p + i], s) };
+                if let Some(keyed) = &b.keyed {
+                    let mut value = [0.0];
+                    for (w, track) in b.weights.iter_mut().zip(keyed) {
+                        *w = match track {
+                            Some(track) => track.value_into(t, &mut value).map(|_| value[0])?,
+                            None => 0.0,
+                        };
+                    }
+                } else {
+                    let (k, s) = segment(&b.times, t);
+                    let p = b.weights.len();
+                    for (i, w) in b.weights.iter_mut().enumerate() {
+                        let a = b.values[k * p + i];
+                        *w = if s == 0.0 { a } else { lerp(a, b.values[(k + 1) * p + i], s) };
+                    }
                 }
                 b.blender.blend_into(&b.weights, solved)?;
             }
+            Engine::Posed(r) => r.positions_into(t, solved)?,
         }
         match (&self.engine, &self.carrier) {
             (Engine::Still, _) => out.copy_from_slice(self.mesh.vertices()),
@@ -319,10 +364,12 @@ impl Driven {
     fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
         if self.injective {
             return self.interpolated(t, out);
-        } else {
-            self.track.sample_into(t, &mut self.targets, &mut self.rotations)?;
-            self.update()?;
         }
+        match &mut self.exact {
+            Some(channels) => channels.sample_into(t, &mut self.targets, &mut self.rotations)?,
+            None => self.track.sample_into(t, &mut self.targets, &mut self.rotations)?,
+        }
+        self.update()?;
         out.copy_from_slice(self.pinned.positions());
         Ok(())
     }
@@ -436,14 +483,14 @@ impl Driven {
 /// simulation mesh of `embedding` when given, the pins placed on it), starch set.
 /// Where a track's pins are placed: the rendered mesh, its simulation mesh, a layered
 /// character's parts, and the glue rows the solved mesh is registered with.
-struct Rendered<'a> {
-    mesh: &'a Mesh,
-    embedding: Option<&'a Embedding>,
-    layered: Option<&'a Layered>,
-    glue: Vec<GlueRow>,
+pub(super) struct Rendered<'a> {
+    pub(super) mesh: &'a Mesh,
+    pub(super) embedding: Option<&'a Embedding>,
+    pub(super) layered: Option<&'a Layered>,
+    pub(super) glue: Vec<GlueRow>,
 }
 
-fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, on: &Rendered) -> Result<Driven> {
+pub(super) fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, on: &Rendered) -> Result<Driven> {
     let embedding = on.embedding;
     let track = Track::from_json_at(json, "track", &TrackOptions::default())?;
     if track.sample_count() == 0 {
@@ -507,6 +554,7 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, on: &Rendered) -> Result<D
     let stride = (track.sample_count() * 16 * mesh.vertices().len()).div_ceil(INJECTIVE_STATE_BYTES).max(1);
     Ok(Driven {
         pinned,
+        exact: None,
         placed: placed.map(|p| (p, vec![[0.0; 2]; n])),
         track,
         targets: vec![[0.0; 2]; n],
@@ -518,53 +566,5 @@ fn drive(mesh: &Mesh, d: &Document, json: &TrackJson, on: &Rendered) -> Result<D
         around: None,
         before: PoseState::default(),
         after: PoseState::default(),
-    })
-}
-
-/// The weight track's playback: the poses added to a blender.
-fn blend(mesh: &Mesh, d: &Document, json: &WeightsJson, glue: &[GlueRow]) -> Result<Blended> {
-    let iterations = d.blend.as_ref().and_then(|b| b.iterations).unwrap_or(0);
-    let mut blender = Blender::from_mesh_glued(mesh.clone(), glue, BlendOptions { iterations })?;
-    let poses = d.poses.as_deref().unwrap_or(&[]);
-    let n = mesh.vertices().len();
-    let mut points = Vec::with_capacity(n);
-    for (i, pose) in poses.iter().enumerate() {
-        let field = format!("poses[{i}]");
-        check_values(&format!("{field}.positions"), &pose.positions, 2 * n)?;
-        points.clear();
-        points.extend(pose.positions.chunks_exact(2).map(|c| [c[0], c[1]]));
-        let flipped = match pose.flipped.as_deref() {
-            None | Some("reject") => Flipped::Reject,
-            Some("clamp") => Flipped::Clamp,
-            Some(f) => {
-                let reason = format!("{} is not \"reject\" or \"clamp\"", Quoted(f));
-                return Err(fault(DocumentFault::Structure, format!("{field}.flipped"), reason));
-            }
-        };
-        let reference = match (pose.near_angle, pose.near_pose) {
-            (None, None) => Reference::Rest,
-            (Some(a), None) if a.is_finite() => Reference::Angle(a),
-            (None, Some(j)) if (j as usize) < i => Reference::Pose(j as usize),
-            _ => {
-                let reason = "needs a finite nearAngle or an earlier nearPose, not both".to_string();
-                return Err(fault(DocumentFault::Structure, field, reason));
-            }
-        };
-        blender.add_pose_with(&points, PoseOptions { flipped, reference })?;
-    }
-    if json.times.is_empty() {
-        return Err(fault(DocumentFault::Structure, "weights.times".into(), "is empty".into()));
-    }
-    check_times("weights.times", &json.times)?;
-    check_values("weights.values", &json.values, poses.len() * json.times.len())?;
-    if let Some(i) = json.values.iter().position(|w| w.abs() > crate::blend::MAX_WEIGHT) {
-        let field = format!("weights.values[{i}]");
-        return Err(fault_at(DocumentFault::Structure, field, json.values[i], "is beyond ±1000000"));
-    }
-    Ok(Blended {
-        blender,
-        times: json.times.clone(),
-        values: json.values.clone(),
-        weights: vec![0.0; poses.len()],
     })
 }

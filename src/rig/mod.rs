@@ -148,7 +148,14 @@ impl Rig {
     /// A rig of `mesh`, with no parameter: makes its [`Blender`] (`E_T`'s matrix factorised
     /// once). Errors: those of [`Blender::from_mesh`].
     pub fn register(mesh: Mesh, options: RigOptions) -> Result<Rig> {
-        let blender = Blender::from_mesh(mesh, options.blend)?;
+        Rig::register_glued(mesh, &[], options)
+    }
+
+    /// [`Rig::register`] for a layered character's mesh with its glue rows: the blend's
+    /// stitching includes them ([`Blender::from_mesh_glued`]), so every pose the rig gives
+    /// keeps the joints closed. Errors: those of [`Blender::from_mesh_glued`].
+    pub fn register_glued(mesh: Mesh, glue: &[crate::deform::GlueRow], options: RigOptions) -> Result<Rig> {
+        let blender = Blender::from_mesh_glued(mesh, glue, options.blend)?;
         Ok(Rig {
             blender,
             flipped: options.flipped,

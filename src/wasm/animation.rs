@@ -60,8 +60,9 @@ export interface WeightsJSON {
 /** A puppet document, version 1 or 2: every field is described in docs/puppet-document.md. */
 export interface PuppetDocument {
   format: "bunraku-puppet";
-  /** 2 for a document with a `simulation` mesh; 1 documents keep loading. */
-  version: 1 | 2;
+  /** 3 for a document with `tick`, `parameters`, `grids`, `channels` or `dynamics`; 2 for one with
+   *  a `simulation` mesh; earlier documents keep loading. */
+  version: 1 | 2 | 3;
   /** The picture the `uvs` refer to: a URL relative to the document, or a `data:` URL. */
   picture?: { url: string; width?: number; height?: number };
   /** How the mesh was made (a record; playback never meshes). */
@@ -105,7 +106,18 @@ export interface PuppetDocument {
   /** A keyed draw order (step interpolation): from `times[k]` on, the parts are drawn in `orders[k]`. */
   drawOrderTrack?: { times: number[]; orders: number[][] };
   /** Which animation plays. Default: the track when there is one, else the weights. */
-  play?: "track" | "weights";
+  play?: "track" | "weights" | "channels";
+  /** Version 3: the springs' fixed tick, whole Hz. Default 120. */
+  tick?: number;
+  /** Version 3: named parameters; keyform `k` is the pose `poses[keyforms[k].pose]` (`null`: the rest). */
+  parameters?: (ParameterDefinition & { keyforms: { pose: number | null }[] })[];
+  /** Version 3: correctives at combinations of two parameters' keys. */
+  grids?: { parameters: [string, string]; keyforms: { at: [number, number]; pose: number }[] }[];
+  /** Version 3: keyed channels: `"parameters.<id>"`, `"pins[i].target"`, `"pins[i].angle"`,
+   *  `"pins[i].scale"`, `"weights[k]"`. */
+  channels?: { target: string; keys: KeyJSON[] }[];
+  /** Version 3: springs on secondary pins. */
+  dynamics?: SpringSettings[];
   /** Repeat every `duration` seconds. Default `false`. */
   loop?: boolean;
   /** Seconds. Default: the played animation's last sample time. */
@@ -113,8 +125,9 @@ export interface PuppetDocument {
 }
 
 /** What a `Player` plays: `"track"` (pins driven through the document's method), `"weights"` (poses
- *  blended), `"still"` (neither: the rest shape). */
-export type PlayMode = "track" | "weights" | "still";
+ *  blended), `"channels"` (keyed pins, parameters or weights, version 3), `"still"` (none: the
+ *  rest shape). */
+export type PlayMode = "track" | "weights" | "channels" | "still";
 "#;
 
 /// Time-stamped targets and rotations of a fixed set of pins, recorded while the user drags
@@ -433,15 +446,43 @@ impl JsPlayer {
         self.player.looping()
     }
 
-    /// What plays: `"track"`, `"weights"` or `"still"`.
+    /// What plays: `"track"`, `"weights"`, `"channels"` or `"still"`.
     #[wasm_bindgen(getter, unchecked_return_type = "PlayMode")]
     pub fn mode(&self) -> String {
         match self.player.mode() {
             Mode::Track => "track",
             Mode::Weights => "weights",
+            Mode::Channels => "channels",
             Mode::Still => "still",
         }
         .into()
+    }
+
+    /// Overrides parameter `id`'s value from now on (a slider, a live input), or gives it
+    /// back to its channel with `null`. Throws `bad-type`, `bad-parameter` (a document
+    /// without parameters, an unknown id, a value beyond the parameter's extrapolation),
+    /// `non-finite`; nothing is then changed.
+    #[wasm_bindgen(js_name = setValue)]
+    pub fn set_value(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "string")] id: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number | null")] value: JsValue,
+    ) -> Result<(), Thrown> {
+        let id = id.as_string().ok_or_else(|| bad_type("id", "a string", &id))?;
+        let value = match value.is_null() {
+            true => None,
+            false => Some(
+                value.as_f64().ok_or_else(|| bad_type("value", "a number or null", &value))?,
+            ),
+        };
+        Ok(self.player.set_value(&id, value)?)
+    }
+
+    /// The parameters the document plays (`ParameterDefinition[]`; empty unless it plays
+    /// its parameters).
+    #[wasm_bindgen(getter, unchecked_return_type = "ParameterDefinition[]")]
+    pub fn parameters(&self) -> Array {
+        self.player.parameters().map(super::rig::definition).collect()
     }
 
     /// The number of vertices.

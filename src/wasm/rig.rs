@@ -288,19 +288,7 @@ impl JsRig {
     /// The parameters' definitions, in the order added (`ParameterDefinition[]`).
     #[wasm_bindgen(getter, unchecked_return_type = "ParameterDefinition[]")]
     pub fn parameters(&self) -> Array {
-        self.rig
-            .parameters()
-            .map(|p| {
-                let o = Object::new();
-                set(&o, "id", &JsValue::from_str(&p.id));
-                for (key, x) in [("min", p.min), ("max", p.max), ("default", p.default)] {
-                    set(&o, key, &JsValue::from(x));
-                }
-                set(&o, "keys", &p.keys.iter().map(|&k| JsValue::from(k)).collect::<Array>());
-                set(&o, "extrapolate", &JsValue::from(p.extrapolate));
-                JsValue::from(o)
-            })
-            .collect()
+        self.rig.parameters().map(definition).collect()
     }
 }
 
@@ -353,4 +341,16 @@ fn node(ids: &JsValue, keys: &JsValue) -> Result<([String; 2], [f64; 2]), Thrown
     let ids = [string(&i.get(0), "ids[0]")?, string(&i.get(1), "ids[1]")?];
     let keys = [number(&k.get(0), "keyValues[0]")?, number(&k.get(1), "keyValues[1]")?];
     Ok((ids, keys))
+}
+
+/// A parameter's definition as JS data (`ParameterDefinition`).
+pub(crate) fn definition(p: &Parameter) -> JsValue {
+    let o = Object::new();
+    set(&o, "id", &JsValue::from_str(&p.id));
+    for (key, x) in [("min", p.min), ("max", p.max), ("default", p.default)] {
+        set(&o, key, &JsValue::from(x));
+    }
+    set(&o, "keys", &p.keys.iter().map(|&k| JsValue::from(k)).collect::<Array>());
+    set(&o, "extrapolate", &JsValue::from(p.extrapolate));
+    o.into()
 }

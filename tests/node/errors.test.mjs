@@ -373,7 +373,7 @@ code("bad-document", () => {
 });
 
 code("bad-version", () => {
-  throws(() => Player.load({ ...stillDocument(), version: 3 }), "bad-version", { field: "version", value: 3 }, /^puppet document: version: 3 is not a version this library reads \(it reads versions 1 and 2\)$/);
+  throws(() => Player.load({ ...stillDocument(), version: 4 }), "bad-version", { field: "version", value: 4 }, /^puppet document: version: 4 is not a version this library reads \(it reads versions 1, 2 and 3\)$/);
 });
 
 code("freed", () => {

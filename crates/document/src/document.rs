@@ -5,15 +5,17 @@
 use serde::{Deserialize, Serialize};
 
 use crate::character::{AtlasJson, DrawOrderTrackJson, GlueJson, PartJson};
+use crate::motion::{ChannelJson, DynamicJson, GridJson, ParameterJson, MAX_MOTION_ITEMS};
 use crate::read::{from_text, header, MAX_POSES};
 use crate::{fault, fault_at, quoted, DocumentFault, Result};
 
 /// The `format` of every puppet document.
 pub const FORMAT: &str = "bunraku-puppet";
 
-/// The newest `version` this library reads: 2, which adds `simulation`. Version 1
-/// documents keep loading (and are written back as they were read).
-pub const VERSION: u32 = 2;
+/// The newest `version` this library reads: 3, which adds `tick`, `parameters`, `grids`,
+/// `channels` and `dynamics` (2 added `simulation`). Earlier documents keep loading (and
+/// are written back as they were read).
+pub const VERSION: u32 = 3;
 
 /// The oldest `version` this library reads.
 pub const MIN_VERSION: u32 = 1;
@@ -28,7 +30,8 @@ pub const MIN_VERSION: u32 = 1;
 pub struct Document {
     /// Always [`FORMAT`], `"bunraku-puppet"`.
     pub format: String,
-    /// [`MIN_VERSION`] to [`VERSION`]: 1, or 2 (which may hold `simulation`).
+    /// [`MIN_VERSION`] to [`VERSION`]: 1, 2 (which may hold `simulation`) or 3 (which may
+    /// hold `tick`, `parameters`, `grids`, `channels` and `dynamics`).
     pub version: u32,
     /// The picture the mesh's `uvs` refer to.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -87,8 +90,39 @@ pub struct Document {
     /// The poses' weights over time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weights: Option<WeightsJson>,
-    /// Which animation plays: `"track"` or `"weights"`; default the one present (the track
-    /// when both are).
+    /// The fixed tick of `dynamics`, whole Hz (version 3). Default 120.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tick: Option<u32>,
+    /// Named parameters whose values pick keyforms among `poses` (version 3).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::read::at_most::<_, _, MAX_MOTION_ITEMS>"
+    )]
+    pub parameters: Option<Vec<ParameterJson>>,
+    /// Correctives at combinations of two parameters (version 3).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::read::at_most::<_, _, MAX_MOTION_ITEMS>"
+    )]
+    pub grids: Option<Vec<GridJson>>,
+    /// Keyed channels (version 3): parameters, pins' targets, angles and scales, weights.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::read::at_most::<_, _, MAX_MOTION_ITEMS>"
+    )]
+    pub channels: Option<Vec<ChannelJson>>,
+    /// Springs on secondary pins (version 3).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::read::at_most::<_, _, MAX_MOTION_ITEMS>"
+    )]
+    pub dynamics: Option<Vec<DynamicJson>>,
+    /// Which animation plays: `"track"`, `"weights"` or `"channels"` (version 3); default
+    /// the one present (the track, else the weights, else the channels).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub play: Option<String>,
     /// Whether playback repeats every `duration` seconds. Default `false`.
@@ -321,7 +355,7 @@ pub struct WeightsJson {
 
 /// Checks a document's header: `format` is [`FORMAT`] and `version` is [`VERSION`]
 /// (`None`: the field is missing). Errors: [`DocumentError`](crate::DocumentError), with
-/// [`DocumentFault::Version`] for a number other than 1 or 2.
+/// [`DocumentFault::Version`] for a number other than 1, 2 or 3.
 pub fn check_header(format: Option<&str>, version: Option<f64>) -> Result<()> {
     match format {
         Some(FORMAT) => {}
@@ -340,7 +374,7 @@ pub fn check_header(format: Option<&str>, version: Option<f64>) -> Result<()> {
             DocumentFault::Version,
             "version".into(),
             v,
-            "is not a version this library reads (it reads versions 1 and 2)",
+            "is not a version this library reads (it reads versions 1, 2 and 3)",
         )),
         None => Err(fault(DocumentFault::Structure, "version".into(), "is missing or not a number".into())),
     }

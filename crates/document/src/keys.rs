@@ -124,6 +124,14 @@ impl<'de> Deserialize<'de> for KeyList {
     }
 }
 
+/// Deserializes a channel's keys, at most [`MAX_KEYS`]
+/// (`#[serde(deserialize_with = "crate::keys::key_list")]`).
+pub(crate) fn key_list<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> std::result::Result<Vec<KeyJson>, D::Error> {
+    KeyList::deserialize(deserializer).map(|list| list.0)
+}
+
 impl KeyJson {
     /// Reads a channel's keys (a JSON array) from JSON text, naming fields under `root`
     /// (`"keys"`: `keys[3].ease[0]`). Their values are checked by bunraku's

@@ -12,6 +12,7 @@
 mod character;
 mod document;
 mod keys;
+mod motion;
 pub mod read;
 
 pub use character::{AtlasJson, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
@@ -21,6 +22,9 @@ pub use document::{
     VERSION,
 };
 pub use keys::{EaseJson, KeyJson, ValueJson, MAX_KEYS, MAX_KEY_DIMS};
+pub use motion::{
+    ChannelJson, DynamicJson, GridJson, GridKeyformJson, KeyformJson, ParameterJson, MAX_MOTION_ITEMS,
+};
 pub use read::MAX_POSES;
 
 /// What is wrong with a puppet document or a track's JSON, which decides the error's code

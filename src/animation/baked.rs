@@ -1,0 +1,118 @@
+//! A pin animation sampled on the fixed tick (issue 25): the pins' targets and rotations
+//! from a track or channels, moved by the document's springs ([`crate::dynamics`]),
+//! written as a track the player drives the pins with. Played on the tick the springs
+//! step on, the positions depend on time alone (any frame rate, any seek: the states
+//! after each sample are kept as for any track), and a loop is pre-rolled by one period,
+//! so it has no seam.
+
+use super::{fault, fault_at, Document, DocumentFault, TrackJson};
+use crate::dynamics::{Dynamics, SecondaryPin, Tick};
+use crate::error::Result;
+use crate::{PinKind, Rotation};
+
+/// The pins' targets and rotations at a time (a track's or channels' sampler).
+pub(crate) type PinSource<'a> = dyn FnMut(f64, &mut [[f64; 2]], &mut [Rotation]) -> Result<()> + 'a;
+
+/// The most samples a baked animation may have: 2²⁰ (2.4 hours at 120 Hz).
+pub(crate) const MAX_BAKED_SAMPLES: usize = 1 << 20;
+
+/// The document's tick (`tick`, default 120 Hz). Errors name `tick`.
+pub(crate) fn tick(d: &Document) -> Result<Tick> {
+    match d.tick {
+        None => Ok(Tick::default()),
+        Some(hz) => Tick::new(hz)
+            .map_err(|e| fault_at(DocumentFault::Structure, "tick".into(), hz as f64, &e.to_string())),
+    }
+}
+
+/// The document's springs on pins at rest at `points`, of kinds `kinds`. Errors
+/// ([`crate::Error::BadDocument`] naming the spring): a kind other than `"pins"`, the
+/// settings [`Dynamics::new`] refuses.
+pub(crate) fn dynamics(
+    d: &Document,
+    points: &[[f64; 2]],
+    kinds: &[PinKind],
+    tick: Tick,
+) -> Result<Option<Dynamics>> {
+    let Some(list) = d.dynamics.as_deref() else { return Ok(None) };
+    let mut settings = Vec::with_capacity(list.len());
+    for (i, s) in list.iter().enumerate() {
+        if s.kind != "pins" {
+            let reason = format!("{:?} is not \"pins\"", s.kind);
+            return Err(fault(DocumentFault::Structure, format!("dynamics[{i}].kind"), reason));
+        }
+        let mut spring = SecondaryPin::new(s.pin as usize, s.root.iter().map(|&r| r as usize).collect());
+        spring.frequency = s.frequency.unwrap_or(spring.frequency);
+        spring.damping = s.damping.unwrap_or(spring.damping);
+        spring.inertia = s.inertia.unwrap_or(spring.inertia);
+        spring.gravity = s.gravity.unwrap_or(spring.gravity);
+        spring.wind = s.wind.unwrap_or(spring.wind);
+        spring.limit = s.limit.or(spring.limit);
+        spring.angle_limit = s.angle_limit.unwrap_or(spring.angle_limit);
+        spring.mix = s.mix.unwrap_or(spring.mix);
+        settings.push(spring);
+    }
+    let made = Dynamics::new(points, kinds, &settings, tick);
+    made.map(Some).map_err(|e| fault(DocumentFault::Structure, "dynamics".into(), e.to_string()))
+}
+
+/// The pins' motion `source` (targets and rotations at a time) from 0 to `end` seconds,
+/// moved by `springs` when given, sampled every tick into a track of pins of `kinds`. With
+/// `period` (a looping document's duration), the springs first play one period, so that
+/// the baked period starts as it ends. Errors: more than [`MAX_BAKED_SAMPLES`] samples
+/// (before any work); the source's own.
+pub(crate) fn bake(
+    kinds: &[PinKind],
+    source: &mut PinSource,
+    end: f64,
+    tick: Tick,
+    mut springs: Option<&mut Dynamics>,
+    period: Option<f64>,
+) -> Result<TrackJson> {
+    let hz = tick.hz() as f64;
+    let steps = (end * hz).ceil();
+    if !(steps.is_finite() && steps < MAX_BAKED_SAMPLES as f64) {
+        let reason = format!("{end} s at {hz} Hz is more than {MAX_BAKED_SAMPLES} samples");
+        return Err(fault(DocumentFault::Structure, "duration".into(), reason));
+    }
+    let (n, count) = (kinds.len(), steps as usize + 1);
+    let mut targets = vec![[0.0; 2]; n];
+    let mut rotations = vec![Rotation::default(); n];
+    let (mut moved, mut turned) = (targets.clone(), rotations.clone());
+    let mut json = TrackJson {
+        pins: n,
+        kinds: Some(kinds.iter().map(|&k| super::track::kind_name(k).to_string()).collect()),
+        times: Vec::with_capacity(count),
+        targets: Vec::with_capacity(2 * n * count),
+        rotations: Some(Vec::with_capacity(2 * n * count)),
+    };
+    // A loop plays one period first: time `offset + t` shows time `t`.
+    let offset = match (period, springs.is_some()) {
+        (Some(p), true) if p > 0.0 => p,
+        _ => 0.0,
+    };
+    let mut kinematics = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| -> Result<()> {
+        let t = if offset > 0.0 { t.rem_euclid(offset) } else { t };
+        source(t, a, b)
+    };
+    for k in 0..count {
+        let t = (k as f64 / hz).min(end);
+        match springs.as_deref_mut() {
+            Some(d) => d.play_into(offset + t, &mut kinematics, &mut moved, &mut turned)?,
+            None => {
+                kinematics(t, &mut targets, &mut rotations)?;
+                moved.copy_from_slice(&targets);
+                turned.copy_from_slice(&rotations);
+            }
+        }
+        if json.times.last().is_some_and(|&last| t <= last) {
+            break;
+        }
+        json.times.push(t);
+        json.targets.extend(moved.iter().flatten());
+        if let Some(r) = json.rotations.as_mut() {
+            r.extend(turned.iter().flat_map(|r| [r.angle, r.scale]));
+        }
+    }
+    Ok(json)
+}

@@ -1,0 +1,216 @@
+//! The player's engines for an animated document (issue 25, version 3): its springs on
+//! pins, baked on the tick ([`super::baked`]); its keyed pins, driven through the method;
+//! its parameters ([`Posed`]); its keyed weights.
+
+use super::baked::{bake, dynamics, tick};
+use super::channels::{Animated, Channels, PinChannels};
+use super::player::{drive, Driven, Engine, Rendered};
+use super::posed::{mixed_channels, Posed};
+use super::track::parse_kind;
+use super::weights::{blend_poses, Blended};
+use super::{check_values, fault, Document, DocumentFault, Track, TrackJson};
+use crate::dynamics::{Dynamics, Tick};
+use crate::error::{Quoted, Result};
+use crate::{Mesh, PinKind, Rotation};
+
+/// Checks that the fields of version 3 appear in a document of version 3 or later.
+pub(super) fn check_motion_version(d: &Document) -> Result<()> {
+    let fields = [
+        ("tick", d.tick.is_some()),
+        ("parameters", d.parameters.is_some()),
+        ("grids", d.grids.is_some()),
+        ("channels", d.channels.is_some()),
+        ("dynamics", d.dynamics.is_some()),
+    ];
+    match fields.iter().find(|(_, present)| *present) {
+        Some((field, _)) if d.version < 3 => {
+            let reason = format!("needs version 3 (the document is version {})", d.version);
+            Err(fault(DocumentFault::Structure, (*field).into(), reason))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The pins' rest points and kinds (`pins`), checked. Errors name the field.
+fn pins(d: &Document, what: &str) -> Result<(Vec<[f64; 2]>, Vec<PinKind>)> {
+    let missing =
+        || fault(DocumentFault::Structure, "pins".into(), format!("is missing ({what} drives pins)"));
+    let p = d.pins.as_ref().ok_or_else(missing)?;
+    let n = p.points.len() / 2;
+    check_values("pins.points", &p.points, 2 * n)?;
+    let points = p.points.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let mut kinds = vec![PinKind::Position; n];
+    if let Some(names) = &p.kinds {
+        super::check_len("pins.kinds", names.len(), n)?;
+        for (i, (kind, name)) in kinds.iter_mut().zip(names).enumerate() {
+            *kind = parse_kind(name).ok_or_else(|| {
+                let reason = format!("{} is not \"position\", \"bend\" or \"advanced\"", Quoted(name));
+                fault(DocumentFault::Structure, format!("pins.kinds[{i}]"), reason)
+            })?;
+        }
+    }
+    Ok((points, kinds))
+}
+
+/// The pins' motion at any time, exactly: their channels, or a track or channels moved by
+/// the document's springs (the kinematics exact at the time, the springs' offsets
+/// interpolated between ticks; [`Dynamics::play_into`]).
+#[derive(Debug)]
+pub(super) enum Exact {
+    Channels(PinChannels),
+    Sprung(Box<Sprung>),
+}
+
+/// Springs on a track's or channels' pins.
+#[derive(Debug)]
+pub(super) struct Sprung {
+    springs: Dynamics,
+    source: Kinematic,
+    /// A loop's period (its springs played one period ahead, so that it has no seam), or 0.
+    period: f64,
+}
+
+/// What moves the pins before the springs do.
+#[derive(Debug)]
+pub(super) enum Kinematic {
+    Track(Track),
+    Channels(PinChannels),
+}
+
+impl Kinematic {
+    fn sample_into(&mut self, t: f64, targets: &mut [[f64; 2]], rotations: &mut [Rotation]) -> Result<()> {
+        match self {
+            Kinematic::Track(track) => track.sample_into(t, targets, rotations),
+            Kinematic::Channels(channels) => channels.sample_into(t, targets, rotations),
+        }
+    }
+}
+
+impl Exact {
+    /// The pins' targets and rotations at `t` into `targets` and `rotations`.
+    pub(super) fn sample_into(
+        &mut self,
+        t: f64,
+        targets: &mut [[f64; 2]],
+        rotations: &mut [Rotation],
+    ) -> Result<()> {
+        match self {
+            Exact::Channels(c) => c.sample_into(t, targets, rotations),
+            Exact::Sprung(s) => {
+                let (source, period) = (&mut s.source, s.period);
+                let mut kinematics = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| {
+                    source.sample_into(if period > 0.0 { t.rem_euclid(period) } else { t }, a, b)
+                };
+                s.springs.play_into(period + t, &mut kinematics, targets, rotations)
+            }
+        }
+    }
+}
+
+/// The document's springs on its pins, or `None` without.
+fn springs(d: &Document) -> Result<Option<(Dynamics, Vec<PinKind>, Tick)>> {
+    if d.dynamics.is_none() {
+        return Ok(None);
+    }
+    let (points, kinds) = pins(d, "the animation")?;
+    let tick = tick(d)?;
+    Ok(dynamics(d, &points, &kinds, tick)?.map(|s| (s, kinds, tick)))
+}
+
+/// A pin track's playback with the document's springs: `None` without springs. A
+/// stateless method plays the track exactly with the springs' offsets; the injective
+/// method plays the track moved by the springs, baked on the tick.
+pub(super) fn sprung_track(
+    mesh: &Mesh,
+    d: &Document,
+    json: &TrackJson,
+    track: Track,
+    on: &Rendered,
+) -> Result<Option<Driven>> {
+    let Some((mut springs, kinds, tick)) = springs(d)? else { return Ok(None) };
+    let end = track.end();
+    let mut source = Kinematic::Track(track);
+    let baked = {
+        let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| source.sample_into(t, a, b);
+        bake(&kinds, &mut sample, end, tick, Some(&mut springs), period(d, end))?
+    };
+    let injective =
+        super::puppet::register_options(d.puppet.as_ref())?.method == crate::deform::Method::Injective;
+    if injective {
+        return drive(mesh, d, &baked, on).map(Some);
+    }
+    springs.reset();
+    let mut driven = drive(mesh, d, json, on)?;
+    driven.exact =
+        Some(Exact::Sprung(Box::new(Sprung { springs, source, period: period(d, end).unwrap_or(0.0) })));
+    Ok(Some(driven))
+}
+
+/// A looping document's period: its duration.
+fn period(d: &Document, end: f64) -> Option<f64> {
+    d.looping.unwrap_or(false).then(|| d.duration.unwrap_or(end))
+}
+
+/// Refuses springs where no pins move (a blend of poses).
+pub(super) fn refuse_springs(d: &Document) -> Result<()> {
+    match d.dynamics {
+        Some(_) => Err(fault(
+            DocumentFault::Structure,
+            "dynamics".into(),
+            "swing pins: they need a pin animation (a track, or channels of pins)".into(),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The engine of a document that plays its channels on the solved mesh `mesh`: keyed pins
+/// through the method (exactly at every time for a stateless method without springs, else
+/// sampled on the tick), parameters through a rig, or keyed weights through a blender.
+pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendered) -> Result<Engine> {
+    let (pin_channels, pose_channels) = channels.kinds();
+    if pin_channels && (pose_channels || d.parameters.is_some()) {
+        return Err(mixed_channels());
+    }
+    if pin_channels {
+        let (points, kinds) = pins(d, "a channel")?;
+        let tick = tick(d)?;
+        let mut springs = dynamics(d, &points, &kinds, tick)?;
+        let mut exact = PinChannels::new(channels, points);
+        let end = channels.end;
+        let baked = {
+            let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| exact.sample_into(t, a, b);
+            bake(&kinds, &mut sample, end, tick, springs.as_mut(), period(d, end))?
+        };
+        let mut driven = drive(mesh, d, &baked, on)?;
+        if !driven.injective {
+            driven.exact = Some(match springs {
+                None => Exact::Channels(exact),
+                Some(mut springs) => {
+                    springs.reset();
+                    let (source, period) = (Kinematic::Channels(exact), period(d, end).unwrap_or(0.0));
+                    Exact::Sprung(Box::new(Sprung { springs, source, period }))
+                }
+            });
+        }
+        return Ok(Engine::Track(Box::new(driven)));
+    }
+    refuse_springs(d)?;
+    if d.parameters.is_some() {
+        return Ok(Engine::Posed(Box::new(Posed::new(d, mesh, &on.glue, channels)?)));
+    }
+    let (blender, count) = blend_poses(mesh, d, &on.glue)?;
+    let mut keyed = vec![None; count];
+    for (target, track) in &channels.tracks {
+        if let Animated::Weight(k) = *target {
+            keyed[k] = Some(track.clone());
+        }
+    }
+    let weights = vec![0.0; count];
+    Ok(Engine::Weights(Box::new(Blended {
+        blender,
+        times: Vec::new(),
+        values: Vec::new(),
+        weights,
+        keyed: Some(keyed),
+    })))
+}

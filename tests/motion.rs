@@ -1,0 +1,275 @@
+//! Animated documents (issue 25, version 3): parameters whose keyforms are poses, keyed
+//! channels of parameters, pins and weights, and springs on pins, played by the `Player`:
+//! keys exact, positions a function of time alone (any frame rate, any seek), `mix: 0` the
+//! same bits as no springs, and named errors.
+
+use bunraku::animation::{Document, Player};
+use bunraku::easing::Easing;
+
+/// A 10 × 4 grid of unit squares: flat `[x0, y0, …]` and `[a0, b0, c0, …]`.
+fn grid() -> (Vec<f64>, Vec<u32>) {
+    let (w, h) = (10u32, 4u32);
+    let mut v = vec![];
+    for y in 0..=h {
+        for x in 0..=w {
+            v.extend([x as f64, y as f64]);
+        }
+    }
+    let id = |x: u32, y: u32| y * (w + 1) + x;
+    let mut t = vec![];
+    for y in 0..h {
+        for x in 0..w {
+            t.extend([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    (v, t)
+}
+
+/// `points` turned by `degrees` about (5, 2).
+fn turned(points: &[f64], degrees: f64) -> Vec<f64> {
+    let (s, c) = degrees.to_radians().sin_cos();
+    points
+        .chunks_exact(2)
+        .flat_map(|p| {
+            let (x, y) = (p[0] - 5.0, p[1] - 2.0);
+            [5.0 + c * x - s * y, 2.0 + s * x + c * y]
+        })
+        .collect()
+}
+
+fn json(values: &[f64]) -> String {
+    serde_json::to_string(values).unwrap()
+}
+
+/// A document of the grid with `fields` (JSON members) added, version 3.
+fn document(fields: &str) -> Document {
+    let (v, t) = grid();
+    let text = format!(
+        r#"{{"format":"bunraku-puppet","version":3,"mesh":{{"vertices":{},"triangles":{}}}{fields}}}"#,
+        json(&v),
+        serde_json::to_string(&t).unwrap()
+    );
+    Document::from_json(&text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The angle of the best rotation from `a` to `b`, in degrees.
+fn angle(a: &[f64], b: &[[f64; 2]]) -> f64 {
+    let n = b.len() as f64;
+    let ma = a.chunks_exact(2).fold([0.0; 2], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
+    let mb = b.iter().fold([0.0; 2], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
+    let (mut s, mut c) = (0.0, 0.0);
+    for (p, q) in a.chunks_exact(2).zip(b) {
+        let (ax, ay, bx, by) = (p[0] - ma[0], p[1] - ma[1], q[0] - mb[0], q[1] - mb[1]);
+        c += ax * bx + ay * by;
+        s += ax * by - ay * bx;
+    }
+    s.atan2(c).to_degrees()
+}
+
+fn parameter_document() -> Document {
+    let (v, _) = grid();
+    document(&format!(
+        r#","poses":[{{"positions":{}}}],
+        "parameters":[{{"id":"turn","min":0,"max":30,"default":0,"keys":[0,30],"keyforms":[{{"pose":null}},{{"pose":0}}]}}],
+        "channels":[{{"target":"parameters.turn","keys":[{{"t":0,"v":0,"ease":"ease-in-out"}},{{"t":1,"v":30}}]}}]"#,
+        json(&turned(&v, 30.0))
+    ))
+}
+
+#[test]
+fn parameters_play_their_keyforms_eased_and_take_live_values() {
+    let (v, _) = grid();
+    let mut player = Player::new(parameter_document()).unwrap();
+    assert_eq!(player.mode(), bunraku::animation::Mode::Channels);
+    assert_eq!(player.duration(), 1.0);
+    let at = |player: &mut Player, t: f64| player.positions_at(t).unwrap();
+    let rest: Vec<[f64; 2]> = v.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+    let diag = 10.77;
+    let close = |a: &[[f64; 2]], b: &[f64]| {
+        a.iter().zip(b.chunks_exact(2)).all(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]) < 1e-9 * diag)
+    };
+    assert!(close(&at(&mut player, 0.0), &v), "the default at the first key: the rest");
+    assert!(close(&at(&mut player, 1.0), &turned(&v, 30.0)), "the key: its keyform");
+    let eased = 30.0 * Easing::parse("ease-in-out").unwrap().at(0.25);
+    assert!((angle(&v, &at(&mut player, 0.25)) - eased).abs() < 1e-9, "eased, an angle not a chord");
+    player.set_value("turn", Some(15.0)).unwrap();
+    assert!((angle(&v, &at(&mut player, 0.9)) - 15.0).abs() < 1e-9, "a live value overrides the channel");
+    assert!(player.set_value("nose", Some(1.0)).is_err());
+    assert!(player.set_value("turn", Some(f64::NAN)).is_err());
+    assert!((angle(&v, &at(&mut player, 0.9)) - 15.0).abs() < 1e-9, "a refused value changes nothing");
+    player.set_value("turn", None).unwrap();
+    assert!(close(&at(&mut player, 1.0), &turned(&v, 30.0)), "back to the channel");
+    assert_eq!(player.parameters().map(|p| p.id.as_str()).collect::<Vec<_>>(), ["turn"]);
+    drop(rest);
+}
+
+/// Pins at both ends of the grid: 0 and 1 hold the left end, 2 rides the right.
+const PINS: &str = r#","pins":{"points":[0,0,0,4,10,2]},"puppet":{"method":"two-step"}"#;
+
+fn pin_channels(extra: &str) -> Document {
+    document(&format!(
+        r#"{PINS},"channels":[
+        {{"target":"pins[2].target","keys":[{{"t":0,"v":[10,2],"ease":[0.3,-0.4,0.7,1.4]}},{{"t":0.5,"v":[9,7],"interp":"hold"}},{{"t":1,"v":[8,-2]}},{{"t":2,"v":[10,2]}}]}},
+        {{"target":"pins[0].target","keys":[{{"t":0,"v":[0,0]}},{{"t":2,"v":[1,0]}}]}}]{extra}"#
+    ))
+}
+
+#[test]
+fn keyed_pins_play_exactly_with_a_stateless_method() {
+    use bunraku::animation::{KeyTrack, KeyTrackOptions};
+    let d = pin_channels("");
+    let mut player = Player::new(d.clone()).unwrap();
+    let channels = d.channels.clone().unwrap();
+    let track =
+        |i: usize| KeyTrack::from_json(&channels[i].keys, Some(2), KeyTrackOptions::default()).unwrap();
+    let (tip, base) = (track(0), track(1));
+    let (v, t) = grid();
+    let rest = bunraku::Rest::register(
+        bunraku::Mesh::from_flat(&v, &t).unwrap(),
+        bunraku::Options { method: bunraku::deform::Method::TwoStep, ..Default::default() },
+    )
+    .unwrap();
+    let handles = [[0.0, 0.0], [0.0, 4.0], [10.0, 2.0]].map(bunraku::Handle::Point);
+    let mut pinned = rest.compile(&handles).unwrap();
+    let times = (0..=50).map(|k| k as f64 * 0.043).chain([0.5, 0.999, 1.0]);
+    for time in times {
+        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+        tip.value_into(time, &mut a).unwrap();
+        base.value_into(time, &mut b).unwrap();
+        let expected = pinned.update(&[b, [0.0, 4.0], a]).unwrap().to_vec();
+        assert_eq!(player.positions_at(time).unwrap(), expected, "at {time} s, bit for bit");
+    }
+}
+
+fn bits(x: &[[f64; 2]]) -> Vec<u64> {
+    x.iter().flatten().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn springs_play_the_same_bits_at_any_frame_rate_and_seek() {
+    let springs =
+        r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1],"frequency":2,"damping":0.1,"limit":3}]"#;
+    let d = pin_channels(springs);
+    let frames = |fps: u32| -> Vec<(f64, Vec<u64>)> {
+        let mut player = Player::new(d.clone()).unwrap();
+        (0..=2 * fps)
+            .map(|k| k as f64 / fps as f64)
+            .map(|t| (t, bits(&player.positions_at(t).unwrap())))
+            .collect()
+    };
+    let (a, b, c) = (frames(30), frames(60), frames(144));
+    for (t, x) in &a {
+        let at = |f: &[(f64, Vec<u64>)]| f.iter().find(|(s, _)| s == t).map(|(_, y)| y.clone());
+        assert_eq!(at(&b).as_ref(), Some(x), "30 and 60 fps at {t}");
+        if let Some(y) = at(&c) {
+            assert_eq!(&y, x, "30 and 144 fps at {t}");
+        }
+    }
+    // Seeking back gives the bits of walking forward.
+    let mut player = Player::new(d.clone()).unwrap();
+    let late = bits(&player.positions_at(1.9).unwrap());
+    let early = bits(&player.positions_at(0.4).unwrap());
+    assert_eq!(
+        early,
+        a.iter().find(|(t, _)| (*t - 0.4).abs() < 1e-12).map(|x| x.1.clone()).unwrap_or(early.clone())
+    );
+    assert_eq!(bits(&player.positions_at(1.9).unwrap()), late);
+    // The springs move the tip: away from the no-spring positions while the tip moves.
+    let mut plain = Player::new(pin_channels("")).unwrap();
+    let differs = (1..20).any(|k| {
+        let t = k as f64 / 10.0;
+        bits(&plain.positions_at(t).unwrap()) != bits(&player.positions_at(t).unwrap())
+    });
+    assert!(differs, "the springs swing the tip");
+}
+
+#[test]
+fn mix_zero_is_the_same_bits_as_no_springs() {
+    let springs = r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1],"frequency":2,"damping":0.1,"mix":0}]"#;
+    let mut mixed = Player::new(pin_channels(springs)).unwrap();
+    let mut plain = Player::new(pin_channels("")).unwrap();
+    for k in 0..=97 {
+        let t = k as f64 * 0.0217;
+        assert_eq!(bits(&mixed.positions_at(t).unwrap()), bits(&plain.positions_at(t).unwrap()), "at {t}");
+    }
+}
+
+#[test]
+fn springs_with_the_injective_method_never_fold() {
+    let springs =
+        r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1],"frequency":4,"damping":0.02,"limit":4}]"#;
+    let mut d = pin_channels(springs);
+    d.puppet.as_mut().unwrap().method = Some("injective".into());
+    let mut player = Player::new(d).unwrap();
+    for k in 0..=40 {
+        let t = k as f64 / 20.0;
+        let x = player.positions_at(t).unwrap();
+        let flipped = player.mesh().triangles().iter().filter(|tri| {
+            let [p, q, r] = tri.map(|v| x[v as usize]);
+            (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]) <= 0.0
+        });
+        assert_eq!(flipped.count(), 0, "at {t} s");
+    }
+}
+
+#[test]
+fn keyed_weights_blend_the_poses() {
+    let (v, _) = grid();
+    let d = document(&format!(
+        r#","poses":[{{"positions":{}}}],"channels":[{{"target":"weights[0]","keys":[{{"t":0,"v":0}},{{"t":2,"v":1}}]}}]"#,
+        json(&turned(&v, 40.0))
+    ));
+    let mut player = Player::new(d).unwrap();
+    assert!((angle(&v, &player.positions_at(1.0).unwrap()) - 20.0).abs() < 1e-9);
+    assert!((angle(&v, &player.positions_at(2.0).unwrap()) - 40.0).abs() < 1e-9);
+}
+
+#[test]
+fn animated_documents_are_checked() {
+    let (v, _) = grid();
+    let err = |d: Document| Player::new(d).unwrap_err().to_string();
+    let mut old = parameter_document();
+    old.version = 2;
+    assert!(err(old).contains("needs version 3"));
+    let mut unknown = parameter_document();
+    unknown.channels.as_mut().unwrap()[0].target = "parameters.nose".into();
+    assert!(err(unknown).contains("channels[0].target"));
+    let mut twice = pin_channels("");
+    let again = twice.channels.as_ref().unwrap()[0].clone();
+    twice.channels.as_mut().unwrap().push(again);
+    assert!(err(twice).contains("channels[2].target"));
+    let mut out = pin_channels("");
+    out.channels.as_mut().unwrap()[0].target = "pins[7].target".into();
+    assert!(err(out).contains("pins[7]"));
+    let mut mixed = parameter_document();
+    mixed.pins = pin_channels("").pins;
+    mixed.channels.as_mut().unwrap().extend(pin_channels("").channels.unwrap());
+    assert!(err(mixed).contains("channels"));
+    let weights_springs = document(&format!(
+        r#","poses":[{{"positions":{}}}],"weights":{{"times":[0,1],"values":[0,1]}},"dynamics":[{{"kind":"pins","pin":0,"root":[1]}}]"#,
+        json(&v)
+    ));
+    assert!(err(weights_springs).contains("dynamics"));
+    let bad_spring = pin_channels(r#","dynamics":[{"kind":"pins","pin":2,"root":[2]}]"#);
+    assert!(err(bad_spring).contains("dynamics"));
+    let bad_keyform = document(&format!(
+        r#","poses":[{{"positions":{}}}],"parameters":[{{"id":"a","min":0,"max":1,"default":0,"keys":[0,1],"keyforms":[{{"pose":null}},{{"pose":3}}]}}]"#,
+        json(&v)
+    ));
+    assert!(err(bad_keyform).contains("parameters[0].keyforms[1].pose"));
+    let mut bad_tick = pin_channels(r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1]}]"#);
+    bad_tick.tick = Some(0);
+    assert!(err(bad_tick).contains("tick"));
+}
+
+#[test]
+fn animated_documents_round_trip() {
+    let d = pin_channels(
+        r#","tick":60,"dynamics":[{"kind":"pins","pin":2,"root":[0,1],"frequency":2,"damping":0.1}]"#,
+    );
+    let text = d.to_json();
+    assert_eq!(Document::from_json(&text).unwrap(), d);
+    assert_eq!(Document::from_json(&text).unwrap().to_json(), text);
+    let p = parameter_document();
+    assert_eq!(Document::from_json(&p.to_json()).unwrap(), p);
+}
