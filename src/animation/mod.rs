@@ -34,8 +34,6 @@ mod puppet;
 mod track;
 mod weights;
 
-pub(crate) use layered::rows_json;
-
 pub use bunraku_document::{
     AtlasJson, BlendJson, Document, DrawOrderTrackJson, EaseJson, GlueDiscJson, GlueJson, GlueRowsJson,
     KeyJson, MeshJson, MeshingJson, OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson,

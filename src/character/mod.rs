@@ -25,6 +25,7 @@ mod parts;
 use std::ops::Range;
 
 pub use atlas::Atlas;
+pub(crate) use document::read_rows;
 pub use glue::{GlueSpec, DEFAULT_GLUE_WEIGHT};
 pub use layer::{check_layers, BlendMode, Layer, MAX_LAYERS};
 

@@ -13,123 +13,6 @@ use super::{flat, read_exact, typed, Thrown, TypedArray};
 use crate::animation::{self, Document, DocumentFault, Mode, Track, TrackJson, TrackOptions};
 use crate::{Error, PinKind, Rotation};
 
-#[wasm_bindgen(typescript_custom_section)]
-const ANIMATION_TS: &str = r#"
-/** Options of `new Track(pinCount, options)`. */
-export interface TrackOptions {
-  /** One kind per pin, in the pins' order. Default: every pin `"position"`. */
-  kinds?: PinKind[];
-  /** A time constant in seconds (≥ 0): each recorded value moves `1 − e^(−Δt / smoothing)` of the way
-   *  to the raw one (an exponential low-pass filter, the same at any recording rate; it lags about
-   *  `smoothing` behind a fast drag). Default 0 (raw). */
-  smoothing?: number;
-  /** How much faster playback runs than the recording, in [10⁻⁶, 10⁶]: 2 plays a 4-second drag in 2 seconds.
-   *  Default 1. */
-  speed?: number;
-  /** The track time of the first recorded sample, in seconds. Default 0. */
-  start?: number;
-  /** Move each recorded angle by whole turns to within half a turn of the pin's previous one, so that
-   *  angles from `Math.atan2` record a continuous turn. Default `true`. */
-  unwrap?: boolean;
-}
-
-/** A `Track` as JSON data (`track.toJSON()`, `Track.fromJSON`, a document's `track`). */
-export interface TrackJSON {
-  /** The number of pins. */
-  pins: number;
-  /** One kind per pin. Default: every pin `"position"`. */
-  kinds?: PinKind[];
-  /** Seconds, strictly increasing. */
-  times: number[];
-  /** Per sample, per pin, `x, y`: `2 · pins · times.length` numbers. */
-  targets: number[];
-  /** Per sample, per pin, `angle, scale` (radians counter-clockwise, unwrapped; scale 1 at rest).
-   *  Default: every pin `0, 1`. */
-  rotations?: number[];
-}
-
-/** The poses' weights over time (a document's `weights`). */
-export interface WeightsJSON {
-  /** Seconds, strictly increasing. */
-  times: number[];
-  /** Per sample, one weight per pose: `poses.length · times.length` numbers (any reals: outside
-   *  [0, 1] extrapolates; the rest shape weighs 1 − Σ weights). */
-  values: number[];
-}
-
-/** A puppet document, version 1 or 2: every field is described in docs/puppet-document.md. */
-export interface PuppetDocument {
-  format: "bunraku-puppet";
-  /** 3 for a document with `tick`, `parameters`, `grids`, `channels` or `dynamics`; 2 for one with
-   *  a `simulation` mesh; earlier documents keep loading. */
-  version: 1 | 2 | 3;
-  /** The picture the `uvs` refer to: a URL relative to the document, or a `data:` URL. */
-  picture?: { url: string; width?: number; height?: number };
-  /** How the mesh was made (a record; playback never meshes). */
-  meshing?: { from?: string; spacing?: number; minAngle?: number; maxVertices?: number;
-              alphaThreshold?: number; margin?: number; simplify?: number; minArea?: number };
-  /** The rest mesh, flat: `[x0, y0, …]`, `[a0, b0, c0, …]`, `[u0, v0, …]`. */
-  mesh: { vertices: number[]; triangles: number[]; uvs?: number[] };
-  /** Version 2: the simulation mesh the mesh is nested in (`mesh.simulation`, flat): every method
-   *  solves on it and `poses` are its positions. */
-  simulation?: { vertices: number[]; triangles: number[]; parent: number[]; weights: number[] };
-  /** The method and `Puppet.register`'s options that pin tracks play with. */
-  puppet?: { method?: Method; weights?: EdgeWeights; handleWeight?: number; iterations?: number;
-             preserveArea?: boolean; termWeights?: TermWeights; maxSolves?: number; regularization?: number };
-  /** The pins the track drives: rest-space points, kinds, radii, and on a layered character
-   *  each pin's part (an index into `parts`). */
-  pins?: { points: number[]; kinds?: PinKind[]; radius?: number[]; parts?: number[] };
-  /** Starch regions (pin tracks). */
-  starch?: { at: [number, number]; amount: number; extent: number }[];
-  /** Overlap regions: `player.triangleDepth`. */
-  overlap?: { at: [number, number]; depth: number; extent: number }[];
-  /** `Blender.register`'s options (weight tracks). */
-  blend?: { iterations?: number };
-  /** Poses of the mesh, one position per vertex each, with `Blender.addPose`'s options. */
-  poses?: { positions: number[]; nearAngle?: number; nearPose?: number; flipped?: FlippedTriangles }[];
-  /** The pins' recorded motion. */
-  track?: TrackJSON;
-  /** The poses' weights over time. */
-  weights?: WeightsJSON;
-  /** A layered character's parts (`character.toDocument()`), in the mesh's order. */
-  parts?: { name: string; group?: string; rect: [number, number, number, number];
-            vertices: [number, number]; triangles: [number, number];
-            atlasRect: [number, number, number, number]; opacity?: number;
-            blendMode?: "normal" | "multiply" | "screen" | "additive"; visible?: boolean }[];
-  /** A layered character's atlas, in place of `picture`: where it is and its size. */
-  atlas?: { url?: string; width: number; height: number };
-  /** A layered character's glue: its discs (parts by index) and the rows they resolved to. */
-  glue?: { discs: { upper: number; lower: number; at: [number, number]; radius: number | null; weight: number }[];
-           rows: { terms: number[]; vertices: number[]; coefficients: number[]; upper: number[]; weights: number[] } };
-  /** The parts' draw order: part indices, bottom first. */
-  drawOrder?: number[];
-  /** A keyed draw order (step interpolation): from `times[k]` on, the parts are drawn in `orders[k]`. */
-  drawOrderTrack?: { times: number[]; orders: number[][] };
-  /** Which animation plays. Default: the track when there is one, else the weights. */
-  play?: "track" | "weights" | "channels";
-  /** Version 3: the springs' fixed tick, whole Hz. Default 120. */
-  tick?: number;
-  /** Version 3: named parameters; keyform `k` is the pose `poses[keyforms[k].pose]` (`null`: the rest). */
-  parameters?: (ParameterDefinition & { keyforms: { pose: number | null }[] })[];
-  /** Version 3: correctives at combinations of two parameters' keys. */
-  grids?: { parameters: [string, string]; keyforms: { at: [number, number]; pose: number }[] }[];
-  /** Version 3: keyed channels: `"parameters.<id>"`, `"pins[i].target"`, `"pins[i].angle"`,
-   *  `"pins[i].scale"`, `"weights[k]"`. */
-  channels?: { target: string; keys: KeyJSON[] }[];
-  /** Version 3: springs on secondary pins. */
-  dynamics?: SpringSettings[];
-  /** Repeat every `duration` seconds. Default `false`. */
-  loop?: boolean;
-  /** Seconds. Default: the played animation's last sample time. */
-  duration?: number;
-}
-
-/** What a `Player` plays: `"track"` (pins driven through the document's method), `"weights"` (poses
- *  blended), `"channels"` (keyed pins, parameters or weights, version 3), `"still"` (none: the
- *  rest shape). */
-export type PlayMode = "track" | "weights" | "channels" | "still";
-"#;
-
 /// Time-stamped targets and rotations of a fixed set of pins, recorded while the user drags
 /// (After Effects' Record) and played back at any frame rate.
 ///
@@ -471,9 +354,7 @@ impl JsPlayer {
         let id = id.as_string().ok_or_else(|| bad_type("id", "a string", &id))?;
         let value = match value.is_null() {
             true => None,
-            false => Some(
-                value.as_f64().ok_or_else(|| bad_type("value", "a number or null", &value))?,
-            ),
+            false => Some(value.as_f64().ok_or_else(|| bad_type("value", "a number or null", &value))?),
         };
         Ok(self.player.set_value(&id, value)?)
     }

@@ -6,6 +6,7 @@
 //! |---|---|
 //! | `puppet` | `Puppet`: register, compile, update, getters, `quality()` |
 //! | `animation` | `Track` (recorded pin motion) and `Player` (puppet documents) |
+//! | `document` | the TypeScript types of the puppet document (`PuppetDocument`) |
 //! | `keys` | `Easing` (CSS cubic Béziers, exact in f64) and `KeyTrack` (eased keyframes) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
 //! | `dynamics` | `Dynamics`: springs on a puppet's secondary pins, on a fixed tick |
@@ -30,6 +31,7 @@
 mod animation;
 mod blend;
 mod character;
+mod document;
 mod dynamics;
 mod errors;
 mod flatten;
