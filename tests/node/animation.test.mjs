@@ -274,7 +274,7 @@ test("named errors for bad documents", () => {
     change(doc);
     return Player.load(doc);
   };
-  throws(load((d) => (d.version = 3)), "bad-version", { field: "version", value: 3 });
+  throws(load((d) => (d.version = 4)), "bad-version", { field: "version", value: 4 });
   throws(load((d) => (d.format = "lottie")), "bad-document", { field: "format" });
   throws(load((d) => delete d.mesh), "bad-document");
   throws(load((d) => (d.lop = true)), "bad-document", { field: "lop" });
