@@ -27,7 +27,7 @@ export type ErrorCode =
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
   | "point-outside" | "overlapping-pins"
   | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation" | "bad-layer"
-  | "freed" | "not-initialized" | "unreadable";
+  | "bad-parameter" | "freed" | "not-initialized" | "unreadable";
 
 /** What every bunraku call throws: a real `Error` (`instanceof Error` holds) whose `message`
  *  names the offending item, with a stable `code` and, where one exists, the offending index
@@ -52,6 +52,8 @@ export interface BunrakuError extends Error {
   limit?: number;
   /** `bad-option`: the option, as JS spells it (`minAngle`, `handleWeight`). */
   option?: string;
+  /** `bad-parameter`: the parameter's id, as given. */
+  parameter?: string;
   /** `bad-type`: the argument or option that has the wrong type (`targets`, `holes[1]`);
    *  `unreadable`: the argument whose reading threw (its exception is `cause`); `freed`:
    *  `"the object"` or the argument that was freed. */

@@ -6,7 +6,7 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { spawnSync } from "node:child_process";
-import { initSync, Blender, Character, Mesh, Player, Puppet, Renderer, Track, flatten, surfaceFromOBJ } from "bunraku";
+import { initSync, Blender, Character, Mesh, Player, Puppet, Renderer, Rig, Track, flatten, surfaceFromOBJ } from "bunraku";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -316,6 +316,16 @@ code("bad-layer", () => {
   const layer = { name: "a", group: "", rect: [0, 0, 4, 4], visible: true, opacity: 1, blendMode: "normal", rgba };
   throws(() => Character.fromLayers([layer, { ...layer, rgba: rgba.subarray(1) }]), "bad-layer", { field: "layers[1].rgba", index: 1 }, /^layers\[1\]\.rgba has 63 bytes/);
   throws(() => Character.fromLayers([{ ...layer, blendMode: "overlay" }]), "bad-layer", { field: "layers[0].blendMode", index: 0 });
+});
+
+code("bad-parameter", () => {
+  const rig = Rig.register(v, t);
+  rig.addParameter({ id: "headX", min: -30, max: 30, default: 0, keys: [-30, 0, 30] });
+  throws(() => rig.setValue("nose", 1), "bad-parameter", { parameter: "nose", field: "" }, /^parameter "nose" does not exist/);
+  throws(() => rig.setKeyform("headX", 15, v), "bad-parameter", { parameter: "headX", field: "key", value: 15 }, /^parameter "headX": key 15 /);
+  throws(() => rig.addParameter({ id: "y", min: 1, max: 0, default: 0, keys: [0, 1] }), "bad-parameter", { parameter: "y" });
+  assert.equal(rig.setValue("headX", 10), 10, "the rig still works");
+  rig.free();
 });
 
 code("bad-simulation", () => {
