@@ -273,3 +273,65 @@ fn animated_documents_round_trip() {
     let p = parameter_document();
     assert_eq!(Document::from_json(&p.to_json()).unwrap(), p);
 }
+
+/// A head parameter on an eased channel that turns and holds, and an ear parameter (its
+/// keyform: the grid bent) swung by the head's motion when `spring` is given.
+fn swinging(spring: &str) -> Document {
+    let (v, _) = grid();
+    let bent: Vec<f64> = v.chunks_exact(2).flat_map(|p| [p[0], p[1] + 0.02 * p[0] * p[0]]).collect();
+    document(&format!(
+        r#","poses":[{{"positions":{}}},{{"positions":{}}},{{"positions":{}}}],
+        "parameters":[{{"id":"headX","min":0,"max":30,"default":0,"keys":[0,30],"keyforms":[{{"pose":null}},{{"pose":0}}]}},
+                      {{"id":"ear","min":-1,"max":1,"default":0,"keys":[-1,0,1],"keyforms":[{{"pose":1}},{{"pose":null}},{{"pose":2}}]}}],
+        "channels":[{{"target":"parameters.headX","keys":[{{"t":0,"v":0,"ease":"ease-in-out"}},{{"t":0.5,"v":30}}]}}]{spring}"#,
+        json(&turned(&v, 30.0)),
+        json(&bent.iter().enumerate().map(|(i, x)| if i % 2 == 1 { 2.0 * v[i] - x } else { *x }).collect::<Vec<_>>()),
+        json(&bent)
+    ))
+}
+
+#[test]
+fn a_parameter_springs_from_another_and_plays_the_same_bits_at_any_frame_rate() {
+    let spring = r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"},"frequency":2,"damping":0.2,"scale":0.05}]"#;
+    let d = swinging(spring);
+    let frames = |fps: u32| -> Vec<(f64, Vec<u64>)> {
+        let mut player = Player::new(d.clone()).unwrap();
+        (0..=3 * fps).map(|k| k as f64 / fps as f64).map(|t| (t, bits(&player.positions_at(t).unwrap()))).collect()
+    };
+    let (a, b, c) = (frames(30), frames(60), frames(144));
+    let mut common = 0;
+    for (t, x) in &a {
+        let at = |f: &[(f64, Vec<u64>)]| f.iter().find(|(s, _)| s == t).map(|(_, y)| y.clone());
+        assert_eq!(at(&b).as_ref(), Some(x), "30 and 60 fps at {t}");
+        if let Some(y) = at(&c) {
+            assert_eq!(&y, x, "30 and 144 fps at {t}");
+            common += 1;
+        }
+    }
+    assert!(common >= 10);
+    // A seek back replays from the start: the bits of walking forward.
+    let mut player = Player::new(d.clone()).unwrap();
+    player.positions_at(2.9).unwrap();
+    let back = bits(&player.positions_at(0.8).unwrap());
+    assert_eq!(Some(&back), a.iter().find(|(t, _)| *t == 24.0 / 30.0).map(|(_, x)| x));
+    // The ear swings while the head turns, then settles where it was.
+    let mut still = Player::new(swinging("")).unwrap();
+    let gap = |player: &mut Player, still: &mut Player, t: f64| {
+        let (x, y) = (player.positions_at(t).unwrap(), still.positions_at(t).unwrap());
+        x.iter().zip(&y).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max)
+    };
+    let swung = (1..12).map(|k| gap(&mut player, &mut still, k as f64 * 0.1)).fold(0.0, f64::max);
+    assert!(swung > 0.05, "the ear swung by {swung}");
+    assert!(gap(&mut player, &mut still, 12.0) < 1e-3 * swung, "and settled");
+}
+
+#[test]
+fn parameter_springs_are_checked() {
+    let err = |spring: &str| Player::new(swinging(spring)).unwrap_err().to_string();
+    assert!(err(r#","dynamics":[{"kind":"pins","pin":0,"root":[1]}]"#).contains("dynamics[0].kind"));
+    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"tail","input":{"parameter":"headX"}}]"#).contains("dynamics[0].parameter"));
+    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"ear"}}]"#).contains("input.parameter"));
+    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"},"frequency":0}]"#).contains("dynamics[0]"));
+    let pins_only = pin_channels(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"}}]"#);
+    assert!(Player::new(pins_only).unwrap_err().to_string().contains("dynamics[0].kind"));
+}

@@ -37,11 +37,19 @@ pub(crate) fn dynamics(
     let Some(list) = d.dynamics.as_deref() else { return Ok(None) };
     let mut settings = Vec::with_capacity(list.len());
     for (i, s) in list.iter().enumerate() {
+        let bad = |field: &str, reason: &str| {
+            fault(DocumentFault::Structure, format!("dynamics[{i}].{field}"), reason.into())
+        };
         if s.kind != "pins" {
-            let reason = format!("{:?} is not \"pins\"", s.kind);
-            return Err(fault(DocumentFault::Structure, format!("dynamics[{i}].kind"), reason));
+            return Err(bad("kind", "is not \"pins\" (a parameter's spring swings a parameter, not pins)"));
         }
-        let mut spring = SecondaryPin::new(s.pin as usize, s.root.iter().map(|&r| r as usize).collect());
+        let (Some(pin), Some(root)) = (s.pin, &s.root) else {
+            return Err(bad("pin", "and root are needed by a spring on pins"));
+        };
+        if s.parameter.is_some() || s.input.is_some() || s.scale.is_some() {
+            return Err(bad("parameter", "input and scale belong to a parameter's spring"));
+        }
+        let mut spring = SecondaryPin::new(pin as usize, root.iter().map(|&r| r as usize).collect());
         spring.frequency = s.frequency.unwrap_or(spring.frequency);
         spring.damping = s.damping.unwrap_or(spring.damping);
         spring.inertia = s.inertia.unwrap_or(spring.inertia);

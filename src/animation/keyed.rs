@@ -157,7 +157,7 @@ pub(super) fn refuse_springs(d: &Document) -> Result<()> {
         Some(_) => Err(fault(
             DocumentFault::Structure,
             "dynamics".into(),
-            "swing pins: they need a pin animation (a track, or channels of pins)".into(),
+            "need something that moves: pins (a track, or channels of pins) or parameters".into(),
         )),
         None => Ok(()),
     }
@@ -194,10 +194,10 @@ pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendere
         }
         return Ok(Engine::Track(Box::new(driven)));
     }
-    refuse_springs(d)?;
     if d.parameters.is_some() {
         return Ok(Engine::Posed(Box::new(Posed::new(d, mesh, &on.glue, channels)?)));
     }
+    refuse_springs(d)?;
     let (blender, count) = blend_poses(mesh, d, &on.glue)?;
     let mut keyed = vec![None; count];
     for (target, track) in &channels.tracks {

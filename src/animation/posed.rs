@@ -6,6 +6,7 @@ use super::channels::{Animated, Channels};
 use super::{fault, Document, DocumentFault, KeyTrack};
 use crate::blend::{BlendOptions, Flipped};
 use crate::deform::GlueRow;
+use crate::dynamics::{ParameterSettings, ParameterSpring, Tick};
 use crate::error::{Error, Quoted, Result};
 use crate::rig::{Parameter, Rig, RigOptions};
 use crate::Mesh;
@@ -20,6 +21,24 @@ pub(crate) struct Posed {
     channels: Vec<Option<KeyTrack>>,
     /// Each parameter's live override.
     overrides: Vec<Option<f64>>,
+    /// Each parameter's value of the frame (scratch).
+    values: Vec<f64>,
+    /// Springs on parameters (`dynamics` of kind `"parameter"`).
+    swings: Vec<Swing>,
+    tick: Tick,
+    /// A loop's period (the springs play one period ahead, so that it has no seam), or 0.
+    period: f64,
+}
+
+/// A parameter swung by another's motion: Live2D's physics (`ParameterSpring`).
+#[derive(Debug)]
+struct Swing {
+    spring: ParameterSpring,
+    /// The parameters read and written.
+    input: usize,
+    output: usize,
+    /// The ticks stepped since the start (0: at rest, nothing stepped).
+    at: u64,
 }
 
 /// The ids of `d`'s parameters, in order.
@@ -80,29 +99,80 @@ impl Posed {
                 keyed[k] = Some(track.clone());
             }
         }
+        let tick = super::baked::tick(d)?;
+        let ids: Vec<String> = parameters.iter().map(|p| p.id.clone()).collect();
+        let swings = swings(d, &ids, tick)?;
+        let end = channels.end;
+        let period = if d.looping.unwrap_or(false) { d.duration.unwrap_or(end) } else { 0.0 };
         Ok(Posed {
             rig,
-            ids: parameters.iter().map(|p| p.id.clone()).collect(),
+            ids,
             defaults: parameters.iter().map(|p| p.default).collect(),
             channels: keyed,
             overrides: vec![None; parameters.len()],
+            values: vec![0.0; parameters.len()],
+            swings,
+            tick,
+            period,
         })
     }
 
+    /// Parameter `k`'s value at time `t` before any spring: its override, else its
+    /// channel's value, else its default.
+    fn base(&self, k: usize, t: f64) -> Result<f64> {
+        match (self.overrides[k], &self.channels[k]) {
+            (Some(v), _) => Ok(v),
+            (None, Some(track)) => {
+                let mut value = [0.0];
+                track.value_into(t, &mut value)?;
+                Ok(value[0])
+            }
+            (None, None) => Ok(self.defaults[k]),
+        }
+    }
+
+    /// Steps the springs to time `t` (from rest at the start when `t` is before the ticks
+    /// they have stepped: the same bits whatever path led here) and adds their swing to
+    /// `self.values`.
+    fn swing(&mut self, t: f64) -> Result<()> {
+        let hz = self.tick.hz() as f64;
+        // A loop's springs start one period early, so that its start continues its end.
+        let time = (t + self.period).max(0.0);
+        let (n, alpha) = self.tick.split(time)?;
+        for s in 0..self.swings.len() {
+            let target = n + 1;
+            if self.swings[s].at > target {
+                self.swings[s].spring.reset();
+                self.swings[s].at = 0;
+            }
+            while self.swings[s].at < target {
+                let at = (self.swings[s].at + 1) as f64 / hz - self.period;
+                let input_time = if self.period > 0.0 { at.rem_euclid(self.period) } else { at.max(0.0) };
+                let input = self.base(self.swings[s].input, input_time)?;
+                self.swings[s].spring.step(input)?;
+                self.swings[s].at += 1;
+            }
+            let swing = &self.swings[s];
+            let k = swing.output;
+            if self.overrides[k].is_none() {
+                self.values[k] += swing.spring.value_at(alpha) - self.defaults[k];
+            }
+        }
+        Ok(())
+    }
+
     /// The pose at time `t` into `out` (one point per vertex of the solved mesh): each
-    /// parameter's override, else its channel's value at `t`, else its default, then one
-    /// blend. Allocates nothing.
+    /// parameter's override, else its channel's value at `t`, else its default, plus its
+    /// spring's swing (when not overridden), then one blend. Allocates nothing; the springs
+    /// step the ticks since the last call (from the start after a seek back).
     pub(crate) fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
-        let mut value = [0.0];
-        for (k, id) in self.ids.iter().enumerate() {
-            let v = match (self.overrides[k], &self.channels[k]) {
-                (Some(v), _) => v,
-                (None, Some(track)) => {
-                    track.value_into(t, &mut value)?;
-                    value[0]
-                }
-                (None, None) => self.defaults[k],
-            };
+        for k in 0..self.ids.len() {
+            self.values[k] = self.base(k, t)?;
+        }
+        if !self.swings.is_empty() {
+            self.swing(t)?;
+        }
+        for (id, &v) in self.ids.iter().zip(&self.values) {
             self.rig.set_value(id, v)?;
         }
         self.rig.pose_into(out)
@@ -139,4 +209,50 @@ pub(crate) fn mixed_channels() -> Error {
         Quoted("parameters or weights")
     );
     fault(DocumentFault::Structure, "channels".into(), reason)
+}
+
+/// The springs on parameters among `d.dynamics` (kind `"parameter"`), for parameters `ids`.
+/// Errors name the spring: a kind other than `"parameter"` (pins springs need pins), an
+/// unknown parameter, fields of the other kind, settings [`ParameterSpring::new`] refuses.
+fn swings(d: &Document, ids: &[String], tick: Tick) -> Result<Vec<Swing>> {
+    let parameters = d.parameters.as_deref().unwrap_or(&[]);
+    let mut swings = Vec::new();
+    for (i, s) in d.dynamics.iter().flatten().enumerate() {
+        let bad = |field: &str, reason: String| {
+            fault(DocumentFault::Structure, format!("dynamics[{i}].{field}"), reason)
+        };
+        if s.kind != "parameter" {
+            return Err(bad(
+                "kind",
+                format!("{} is not \"parameter\": springs on pins need a pin animation", Quoted(&s.kind)),
+            ));
+        }
+        if s.pin.is_some() || s.root.is_some() {
+            return Err(bad("pin", "and root belong to a spring on pins".into()));
+        }
+        let find = |id: Option<&str>, field: &str| -> Result<usize> {
+            let id = id.ok_or_else(|| bad(field, "is missing".into()))?;
+            ids.iter()
+                .position(|p| p == id)
+                .ok_or_else(|| bad(field, format!("{} names no parameter", Quoted(id))))
+        };
+        let output = find(s.parameter.as_deref(), "parameter")?;
+        let input = find(s.input.as_ref().map(|x| x.parameter.as_str()), "input.parameter")?;
+        if input == output {
+            return Err(bad("input.parameter", "is the parameter the spring swings".into()));
+        }
+        let p = &parameters[output];
+        let settings = ParameterSettings {
+            frequency: s.frequency.unwrap_or(1.2),
+            damping: s.damping.unwrap_or(0.12),
+            inertia: s.inertia.unwrap_or(1.0),
+            scale: s.scale.unwrap_or(1.0),
+            min: p.min,
+            max: p.max,
+            default: p.default,
+        };
+        let spring = ParameterSpring::new(settings, tick).map_err(|e| bad("frequency", e.to_string()))?;
+        swings.push(Swing { spring, input, output, at: 0 });
+    }
+    Ok(swings)
 }

@@ -108,8 +108,10 @@ export interface PuppetDocument {
   /** Version 3: keyed channels: `"parameters.<id>"`, `"pins[i].target"`, `"pins[i].angle"`,
    *  `"pins[i].scale"`, `"weights[k]"`. */
   channels?: { target: string; keys: KeyJSON[] }[];
-  /** Version 3: springs on secondary pins. */
-  dynamics?: SpringSettings[];
+  /** Version 3: springs on secondary pins (kind `"pins"`), or on parameters (kind `"parameter"`:
+   *  swung by another parameter's motion). */
+  dynamics?: (SpringSettings | { kind: "parameter"; parameter: string; input: { parameter: string };
+                                 frequency?: number; damping?: number; inertia?: number; scale?: number })[];
   /** Repeat every `duration` seconds. Default `false`. */
   loop?: boolean;
   /** Seconds. Default: the played animation's last sample time. */

@@ -75,17 +75,29 @@ pub struct ChannelJson {
 }
 
 /// A spring (`dynamics[i]`): kind `"pins"`, a secondary pin swinging about where its root
-/// pins carry it.
+/// pins carry it; or kind `"parameter"`, a parameter's value swung by another's motion
+/// (Live2D's physics).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "camelCase")]
 #[serde(deny_unknown_fields)]
 pub struct DynamicJson {
-    /// `"pins"`.
+    /// `"pins"` or `"parameter"`.
     pub kind: String,
-    /// The secondary pin's index in `pins`.
-    pub pin: u32,
-    /// The pins that carry it.
-    pub root: Vec<u32>,
+    /// `"pins"`: the secondary pin's index in `pins`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pin: Option<u32>,
+    /// `"pins"`: the pins that carry it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub root: Option<Vec<u32>>,
+    /// `"parameter"`: the id of the parameter the spring swings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parameter: Option<String>,
+    /// `"parameter"`: what moves it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input: Option<SpringInputJson>,
+    /// `"parameter"`: parameter units per unit of the input's motion (not 0). Default 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
     /// Hz. Default 1.2.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frequency: Option<f64>,
@@ -110,4 +122,12 @@ pub struct DynamicJson {
     /// 0 to 1. Default 1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mix: Option<f64>,
+}
+
+/// What moves a parameter spring: another parameter's value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringInputJson {
+    /// The id of the parameter whose motion kicks the spring.
+    pub parameter: String,
 }
