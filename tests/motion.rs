@@ -285,7 +285,13 @@ fn swinging(spring: &str) -> Document {
                       {{"id":"ear","min":-1,"max":1,"default":0,"keys":[-1,0,1],"keyforms":[{{"pose":1}},{{"pose":null}},{{"pose":2}}]}}],
         "channels":[{{"target":"parameters.headX","keys":[{{"t":0,"v":0,"ease":"ease-in-out"}},{{"t":0.5,"v":30}}]}}]{spring}"#,
         json(&turned(&v, 30.0)),
-        json(&bent.iter().enumerate().map(|(i, x)| if i % 2 == 1 { 2.0 * v[i] - x } else { *x }).collect::<Vec<_>>()),
+        json(
+            &bent
+                .iter()
+                .enumerate()
+                .map(|(i, x)| if i % 2 == 1 { 2.0 * v[i] - x } else { *x })
+                .collect::<Vec<_>>()
+        ),
         json(&bent)
     ))
 }
@@ -296,7 +302,10 @@ fn a_parameter_springs_from_another_and_plays_the_same_bits_at_any_frame_rate() 
     let d = swinging(spring);
     let frames = |fps: u32| -> Vec<(f64, Vec<u64>)> {
         let mut player = Player::new(d.clone()).unwrap();
-        (0..=3 * fps).map(|k| k as f64 / fps as f64).map(|t| (t, bits(&player.positions_at(t).unwrap()))).collect()
+        (0..=3 * fps)
+            .map(|k| k as f64 / fps as f64)
+            .map(|t| (t, bits(&player.positions_at(t).unwrap())))
+            .collect()
     };
     let (a, b, c) = (frames(30), frames(60), frames(144));
     let mut common = 0;
@@ -329,9 +338,15 @@ fn a_parameter_springs_from_another_and_plays_the_same_bits_at_any_frame_rate() 
 fn parameter_springs_are_checked() {
     let err = |spring: &str| Player::new(swinging(spring)).unwrap_err().to_string();
     assert!(err(r#","dynamics":[{"kind":"pins","pin":0,"root":[1]}]"#).contains("dynamics[0].kind"));
-    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"tail","input":{"parameter":"headX"}}]"#).contains("dynamics[0].parameter"));
-    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"ear"}}]"#).contains("input.parameter"));
-    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"},"frequency":0}]"#).contains("dynamics[0]"));
-    let pins_only = pin_channels(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"}}]"#);
+    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"tail","input":{"parameter":"headX"}}]"#)
+        .contains("dynamics[0].parameter"));
+    assert!(err(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"ear"}}]"#)
+        .contains("input.parameter"));
+    assert!(err(
+        r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"},"frequency":0}]"#
+    )
+    .contains("dynamics[0]"));
+    let pins_only =
+        pin_channels(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"}}]"#);
     assert!(Player::new(pins_only).unwrap_err().to_string().contains("dynamics[0].kind"));
 }

@@ -139,7 +139,8 @@ pub(super) fn sprung_track(
     if injective {
         return drive(mesh, d, &baked, on).map(Some);
     }
-    springs.reset();
+    // The bake walked every tick: its checkpoints serve the seeks (the same kinematics at
+    // the same times), so no seek walks from the start.
     let mut driven = drive(mesh, d, json, on)?;
     driven.exact =
         Some(Exact::Sprung(Box::new(Sprung { springs, source, period: period(d, end).unwrap_or(0.0) })));
@@ -185,8 +186,8 @@ pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendere
         if !driven.injective {
             driven.exact = Some(match springs {
                 None => Exact::Channels(exact),
-                Some(mut springs) => {
-                    springs.reset();
+                Some(springs) => {
+                    // Kept as the bake left them: their checkpoints serve every seek.
                     let (source, period) = (Kinematic::Channels(exact), period(d, end).unwrap_or(0.0));
                     Exact::Sprung(Box::new(Sprung { springs, source, period }))
                 }

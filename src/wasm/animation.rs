@@ -283,11 +283,7 @@ impl JsPlayer {
         #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = typed::<Float64Array>("out", &out)?;
-        let (got, expected) = (out.len(), 2 * self.out.len());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
-        }
+        let out = super::output(&out, 2 * self.out.len())?;
         self.solve(&t)?;
         out.copy_from(self.out.as_flattened());
         Ok(())

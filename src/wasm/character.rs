@@ -413,17 +413,8 @@ fn character_options(options: &JsValue) -> Result<(CharacterOptions, Option<JsVa
 /// The layers, checked before their pixels are copied: the count, each rectangle's size
 /// and the pixels' length.
 fn read_layers(value: &JsValue) -> Result<Vec<Layer>, Thrown> {
-    let array = value.dyn_ref::<Array>().ok_or_else(|| bad_type("layers", "an array of layers", value))?;
+    let array = super::plain_list(value, "layers", "an array of layers", "layers", MAX_LAYERS)?;
     let count = array.length() as usize;
-    if count > MAX_LAYERS {
-        return Err(Error::TooMany {
-            what: "layers",
-            count: count as f64,
-            estimated: false,
-            limit: MAX_LAYERS,
-        }
-        .into());
-    }
     let mut layers = Vec::with_capacity(count);
     let mut total = 0u64;
     for index in 0..count {

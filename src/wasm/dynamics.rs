@@ -231,18 +231,8 @@ impl JsDynamics {
 /// The springs of `value`, a plain array of `SpringSettings`, each field checked for its
 /// type here and for its range by the core (which names the entry).
 fn springs(value: &JsValue) -> Result<Vec<SecondaryPin>, Thrown> {
-    let list = value.dyn_ref::<Array>().ok_or_else(|| bad_type("settings", "an array of objects", value))?;
-    let count = list.length() as usize;
-    if count > MAX_DYNAMICS {
-        return Err(Error::TooMany {
-            what: "springs",
-            count: count as f64,
-            estimated: false,
-            limit: MAX_DYNAMICS,
-        }
-        .into());
-    }
-    (0..count).map(|i| spring(&list.get(i as u32), i)).collect()
+    let list = super::plain_list(value, "settings", "an array of objects", "springs", MAX_DYNAMICS)?;
+    (0..list.length()).map(|i| spring(&list.get(i), i as usize)).collect()
 }
 
 /// `settings[i]`.

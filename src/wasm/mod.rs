@@ -117,6 +117,33 @@ macro_rules! typed_arrays {
 
 typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint8Array: u8, Uint8ClampedArray: u8);
 
+/// `out` as a `Float64Array` of `expected` numbers, or a `bad-type` or `bad-length` error
+/// (an output buffer: `positionsInto`, `poseInto`, `valueInto`).
+pub(crate) fn output(out: &JsValue, expected: usize) -> Result<&Float64Array, Thrown> {
+    let array = typed::<Float64Array>("out", out)?;
+    if array.len() != expected {
+        return Err(Error::CountMismatch { what: "output length", got: array.len(), expected }.into());
+    }
+    Ok(array)
+}
+
+/// `value` as a plain JS array of at most `limit` items (`what`, for the message), or a
+/// `bad-type` error naming `argument` (expected `expected`) or a `too-large` one.
+pub(crate) fn plain_list<'v>(
+    value: &'v JsValue,
+    argument: &str,
+    expected: &str,
+    what: &'static str,
+    limit: usize,
+) -> Result<&'v js_sys::Array, Thrown> {
+    let list = value.dyn_ref::<js_sys::Array>().ok_or_else(|| bad_type(argument, expected, value))?;
+    let count = list.length() as usize;
+    if count > limit {
+        return Err(Error::TooMany { what, count: count as f64, estimated: false, limit }.into());
+    }
+    Ok(list)
+}
+
 /// `value` as the typed array `A`, or a `bad-type` error naming `argument`.
 pub(crate) fn typed<'v, A: TypedArray>(argument: &str, value: &'v JsValue) -> Result<&'v A, Thrown> {
     value.dyn_ref::<A>().ok_or_else(|| bad_type(argument, A::NAME, value))

@@ -330,16 +330,7 @@ pub(crate) fn blend_options(options: &JsValue) -> Result<BlendOptions, Thrown> {
 pub(crate) fn pose_options(options: &JsValue, pose_count: usize) -> Result<PoseOptions, Thrown> {
     let fields = Fields::open(options, &["flipped", "nearAngle", "nearPose"])?;
     let mut o = PoseOptions::default();
-    if let Some(v) = fields.get("flipped")? {
-        o.flipped = match v.as_string().as_deref() {
-            Some("reject") => Flipped::Reject,
-            Some("clamp") => Flipped::Clamp,
-            _ => {
-                let reason = format!("{} is not \"reject\" or \"clamp\"", describe(&v));
-                return Err(bad_option("flipped", &v, &reason));
-            }
-        };
-    }
+    o.flipped = flipped(&fields)?.unwrap_or(o.flipped);
     match (fields.number("nearAngle")?, fields.number("nearPose")?) {
         (None, None) => {}
         (Some(a), None) => o.reference = Reference::Angle(a),
@@ -349,6 +340,16 @@ pub(crate) fn pose_options(options: &JsValue, pose_count: usize) -> Result<PoseO
         }
     }
     Ok(o)
+}
+
+/// The `flipped` option (`"reject"` or `"clamp"`), `None` when absent.
+pub(crate) fn flipped(fields: &Fields) -> Result<Option<Flipped>, Thrown> {
+    let Some(v) = fields.get("flipped")? else { return Ok(None) };
+    match v.as_string().as_deref() {
+        Some("reject") => Ok(Some(Flipped::Reject)),
+        Some("clamp") => Ok(Some(Flipped::Clamp)),
+        _ => Err(bad_option("flipped", &v, &format!("{} is not \"reject\" or \"clamp\"", describe(&v)))),
+    }
 }
 
 /// `Mesh.fromOutline`'s options.

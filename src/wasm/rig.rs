@@ -4,7 +4,7 @@
 use js_sys::{Array, Float64Array, Object, Uint32Array};
 use wasm_bindgen::prelude::*;
 
-use super::errors::{bad_option, bad_type, describe, Thrown};
+use super::errors::{bad_type, Thrown};
 use super::options::Fields;
 use super::{items, set, typed, TypedArray};
 use crate::blend::{BlendOptions, Flipped};
@@ -76,16 +76,7 @@ impl JsRig {
         if let Some(k) = fields.count("iterations")? {
             o.blend.iterations = u32::try_from(k).unwrap_or(u32::MAX);
         }
-        if let Some(v) = fields.get("flipped")? {
-            o.flipped = match v.as_string().as_deref() {
-                Some("reject") => Flipped::Reject,
-                Some("clamp") => Flipped::Clamp,
-                _ => {
-                    let reason = format!("{} is not \"reject\" or \"clamp\"", describe(&v));
-                    return Err(bad_option("flipped", &v, &reason));
-                }
-            };
-        }
+        o.flipped = super::options::flipped(&fields)?.unwrap_or(o.flipped);
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
         let rig = Rig::register(Mesh::new(vertices, triangles)?, o)?;
@@ -227,11 +218,8 @@ impl JsRig {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = typed::<Float64Array>("out", &out)?;
-        let (got, expected) = (out.len(), self.rig.weight_count());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "weights", got, expected }.into());
-        }
+        let expected = self.rig.weight_count();
+        let out = super::output(&out, expected)?;
         self.weights.resize(expected, 0.0);
         self.rig.weights_into(&mut self.weights)?;
         out.copy_from(&self.weights);
@@ -246,11 +234,7 @@ impl JsRig {
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = typed::<Float64Array>("out", &out)?;
-        let (got, expected) = (out.len(), 2 * self.out.len());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
-        }
+        let out = super::output(&out, 2 * self.out.len())?;
         self.rig.pose_into(&mut self.out)?;
         out.copy_from(self.out.as_flattened());
         Ok(())
@@ -317,12 +301,8 @@ fn number(value: &JsValue, argument: &str) -> Result<f64, Thrown> {
 /// A plain array of at most `limit` numbers (`definition.keys`), or `bad-type` naming
 /// `argument` (and the entry at fault).
 fn number_list(value: &JsValue, argument: &str, limit: usize) -> Result<Vec<f64>, Thrown> {
-    let list = value.dyn_ref::<Array>().ok_or_else(|| bad_type(argument, "an array of numbers", value))?;
-    let len = list.length() as usize;
-    if len > limit {
-        return Err(Error::TooMany { what: "keys", count: len as f64, estimated: false, limit }.into());
-    }
-    (0..len)
+    let list = super::plain_list(value, argument, "an array of numbers", "keys", limit)?;
+    (0..list.length() as usize)
         .map(|i| {
             let v = list.get(i as u32);
             v.as_f64().ok_or_else(|| bad_type(&format!("{argument}[{i}]"), "a number", &v))
