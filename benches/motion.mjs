@@ -41,231 +41,20 @@ import * as raw from "../pkg/bunraku.js?glue";
 import * as pkg from "bunraku";
 import { machine } from "./_machine.mjs";
 import { median } from "./_time.mjs";
-import { spacingFor, star } from "./_star.mjs";
+import { easingSection } from "./_motion-easing.mjs";
+import { drag, f3, HANDLES, kinematic, max, met, min, now, pct, pctText, pinPoints, quick, random, ROOTS, spread, springs, starMesh, verdicts, body } from "./_motion-common.mjs";
 
 const bytes = readFileSync(new URL("../pkg/bunraku_bg.wasm", import.meta.url));
 const wasmModule = new WebAssembly.Module(bytes);
 raw.initSync({ module: wasmModule });
 pkg.initSync({ module: wasmModule });
-const quick = process.argv.includes("--quick");
-
-const now = () => performance.now();
-const sorted = (a) => [...a].sort((x, y) => x - y);
-const pct = (a, p) => {
-  const s = sorted(a);
-  return s[Math.round((s.length - 1) * p)];
-};
-const min = (a) => Math.min(...a);
-const max = (a) => Math.max(...a);
-/** `x` with 3 significant digits (at least 1 decimal below 100). */
-const f3 = (x) => (Math.abs(x) >= 100 ? x.toFixed(0) : Math.abs(x) >= 10 ? x.toFixed(1) : Math.abs(x) >= 1 ? x.toFixed(2) : x.toPrecision(3));
-/** "median (min–max)" of per-round figures. */
-const spread = (a, f = f3) => `${f(median(a))} (${f(min(a))}–${f(max(a))})`;
-const pctText = (x) => `${(100 * x).toPrecision(3)} %`;
-const met = (ok) => (ok ? "met" : "**not met**");
-const verdicts = [];
-
-/** A small seeded generator (mulberry32): the same inputs every run. */
-function random(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
-
-/** The star meshed to about `n` vertices: its vertices and triangles. */
-function starMesh(lib, n) {
-  const mesh = lib.Mesh.fromOutline(star, undefined, { spacing: spacingFor(n) });
-  const out = { vertices: mesh.vertices, triangles: mesh.triangles };
-  mesh.free();
-  return out;
-}
-
-/** The 4 handles of benches/wasm.mjs: two star tips, the centre, a point between. */
-const HANDLES = new Float64Array([0.0, 0.9, 0.9 * 0.951, 0.9 * 0.309, 0.0, 0.0, -0.3, -0.2]);
-/** Their drag at frame `f` (benches/blend.mjs): the first tip swings. */
-function drag(f, targets) {
-  const a = f * 0.05;
-  targets.set(HANDLES);
-  targets[0] = HANDLES[0] + 0.4 * Math.sin(a);
-  targets[1] = HANDLES[1] + 0.3 * (1 - Math.cos(a));
-}
 
 console.log(machine(["src", "crates", "js"]));
 console.log(`node ${process.version}, ${os.cpus().length} cores, load average at the start ${os.loadavg().map((x) => x.toFixed(2)).join(" ")}`);
 console.log("");
 
-// ---------------------------------------------------------------------------------------
-// 1. Easing.
-// ---------------------------------------------------------------------------------------
-{
-  const N = 1 << 16; // inputs
-  const CHUNK = 2048; // calls per timed sample (about 0.5 ms)
-  const POINTS = 10_000;
-  const rounds = quick ? 5 : 15;
-  const chunks = quick ? 8 : 16; // samples of each curve per round
-  const intos = quick ? 4 : 8; // atInto calls of each curve per round
-  const next = random(0x2545f491);
-  const xs = Float64Array.from({ length: N }, () => next());
-  const ys = new Float64Array(POINTS);
-  const keywords = ["linear", "hold", "ease", "ease-in", "ease-out", "ease-in-out"];
-  const handles = Array.from({ length: 1000 }, () => [next(), 3 * next() - 1, next(), 3 * next() - 1]);
-  const curves = (lib) => ({
-    keywords: keywords.map((k) => lib.Easing.parse(k)),
-    random: handles.map((h) => lib.Easing.cubicBezier(...h)),
-  });
-  const [r, p] = [curves(raw), curves(pkg)];
-  let sink = 0;
-  /** Nanoseconds per `at` over CHUNK inputs from `from`: on `e`, or, for the random
-   *  handles, on the curves of `list` in turn, each at 64 inputs (benches/easing.rs). */
-  const perCall = (e, list, from) => {
-    let sum = 0;
-    const t = now();
-    if (e) for (let i = from; i < from + CHUNK; i++) sum += e.at(xs[i]);
-    else for (let i = from; i < from + CHUNK; i++) sum += list[(i >> 6) % list.length].at(xs[i]);
-    const dt = now() - t;
-    sink += sum;
-    return (dt * 1e6) / CHUNK;
-  };
-  /** Nanoseconds per point of one `atInto` on 10⁴ points. */
-  const perPoint = (e, from) => {
-    const t = now();
-    e.atInto(xs.subarray(from, from + POINTS), ys);
-    return ((now() - t) * 1e6) / POINTS;
-  };
-  // The unit of a call: a getter that takes no argument and returns a number
-  // (`mesh.vertexCount`), i.e. the bare JS→wasm→JS round trip.
-  const meshes = [raw, pkg].map((lib) => lib.Mesh.fromOutline(star, undefined, { spacing: spacingFor(200) }));
-  const getter = (mesh, from) => {
-    let sum = 0;
-    const t = now();
-    for (let i = from; i < from + CHUNK; i++) sum += mesh.vertexCount;
-    const dt = now() - t;
-    sink += sum;
-    return (dt * 1e6) / CHUNK;
-  };
-  const rows = [...keywords, "1,000 random handles"];
-  const series = rows.map(() => ({ raw: [], pkg: [], into: [], intoPkg: [] }));
-  const bare = { raw: [], pkg: [] };
-  const one = (c, i) => (i < keywords.length ? c.keywords[i] : null);
-  // Warm-up (not timed): V8 tiers the wasm and the loops up.
-  for (let k = 0; k < 40; k++) {
-    const from = (k * CHUNK) % (N - CHUNK);
-    rows.forEach((_, i) => {
-      for (const c of [r, p]) {
-        perCall(one(c, i), c.random, from);
-        if (k % 10 === 0) perPoint(one(c, i) ?? c.random[k], from % (N - POINTS));
-      }
-    });
-    meshes.forEach((m) => getter(m, from));
-  }
-  // Each round: the curves' samples interleaved chunk by chunk, then their atInto calls;
-  // a round's figure is the median of its samples (a slice of the machine's time taken by
-  // another job lands in one sample, not in a round).
-  for (let round = 0; round < rounds; round++) {
-    const got = rows.map(() => ({ raw: [], pkg: [], into: [], intoPkg: [] }));
-    const gotBare = { raw: [], pkg: [] };
-    for (let c = 0; c < chunks; c++) {
-      const from = ((round * chunks + c) * CHUNK) % N;
-      gotBare.raw.push(getter(meshes[0], from));
-      gotBare.pkg.push(getter(meshes[1], from));
-      rows.forEach((_, i) => {
-        got[i].raw.push(perCall(one(r, i), r.random, from));
-        got[i].pkg.push(perCall(one(p, i), p.random, from));
-      });
-    }
-    for (let k = 0; k < intos; k++) {
-      const from = ((round * intos + k) * 997) % (N - POINTS);
-      const curve = round * intos + k;
-      rows.forEach((_, i) => {
-        got[i].into.push(perPoint(one(r, i) ?? r.random[curve % 1000], from));
-        got[i].intoPkg.push(perPoint(one(p, i) ?? p.random[curve % 1000], from));
-      });
-    }
-    rows.forEach((_, i) => {
-      for (const key of ["raw", "pkg", "into", "intoPkg"]) series[i][key].push(median(got[i][key]));
-    });
-    bare.raw.push(median(gotBare.raw));
-    bare.pkg.push(median(gotBare.pkg));
-  }
-  if (!Number.isFinite(sink)) throw new Error("not finite");
-  console.log(`### 1. Easing: ns per evaluation, median over ${rounds} rounds (range of the rounds' medians); evaluations per second of the median`);
-  console.log("");
-  console.log(
-    `\`at(x)\`: ${chunks} timed samples of ${CHUNK} calls per curve and round, the curves interleaved sample by sample, at inputs uniform in (0, 1); random handles: x1, x2 in [0, 1], y1, y2 in [−1, 2], each curve at 64 inputs in turn. ` +
-      `\`atInto\`: ${intos} calls of 10⁴ points per curve and round (random handles: a new curve each call). A round's figure is its samples' median.`,
-  );
-  console.log("");
-  console.log("| curve | at(x), glue (ns/call) | calls/s | at(x), \"bunraku\" entry (ns/call) | calls/s | atInto, glue (ns/point) | points/s | atInto, \"bunraku\" entry (ns/point) | points/s |");
-  console.log("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-  const rate = (ns) => (1e9 / ns).toExponential(2);
-  rows.forEach((name, i) => {
-    const s = series[i];
-    console.log(
-      `| ${name} | ${spread(s.raw)} | ${rate(median(s.raw))} | ${spread(s.pkg)} | ${rate(median(s.pkg))} | ` +
-        `${spread(s.into)} | ${rate(median(s.into))} | ${spread(s.intoPkg)} | ${rate(median(s.intoPkg))} |`,
-    );
-  });
-  console.log(`| (a bare call: the \`mesh.vertexCount\` getter) | ${spread(bare.raw)} | ${rate(median(bare.raw))} | ${spread(bare.pkg)} | ${rate(median(bare.pkg))} | | | | |`);
-  console.log("");
-  const bezier = series.slice(2);
-  const worst = (key) => max(bezier.map((s) => median(s[key])));
-  const worstName = (key) => rows[2 + bezier.findIndex((s) => median(s[key]) === worst(key))];
-  verdicts.push(`1. easing ≥ 10⁷ evaluations/s, per \`at\` call through the glue: ${met(1e9 / worst("raw") >= 1e7)} (slowest cubic-bezier row, ${worstName("raw")}: ${rate(worst("raw"))}/s, ${f3(worst("raw"))} ns; a bare getter call ${f3(median(bare.raw))} ns)`);
-  verdicts.push(`1. the same through the "bunraku" entry: ${met(1e9 / worst("pkg") >= 1e7)} (slowest, ${worstName("pkg")}: ${rate(worst("pkg"))}/s, ${f3(worst("pkg"))} ns; a bare getter call ${f3(median(bare.pkg))} ns)`);
-  verdicts.push(`1. \`atInto\` on 10⁴ points, per point: ${met(1e9 / worst("into") >= 1e7)} (slowest cubic-bezier row, ${worstName("into")}: ${rate(worst("into"))} points/s, ${f3(worst("into"))} ns)`);
-  for (const c of [r, p]) for (const e of [...c.keywords, ...c.random]) e.free();
-  for (const mesh of meshes) mesh.free();
-}
-
-// ---------------------------------------------------------------------------------------
-// Springs (sections 2 and 4): the pins of benches/dynamics.rs.
-// ---------------------------------------------------------------------------------------
-
-/** The root pins: the star's centre and a point between it and a tip. */
-const ROOTS = [0.0, 0.0, -0.3, -0.2];
-/** `m` secondary pins on the star's arms: the five tips (radius 0.85), then points halfway
- *  along the first three arms (radius 0.55). */
-function pinPoints(m) {
-  const points = [...ROOTS];
-  for (let j = 0; j < m; j++) {
-    const arm = j % 5;
-    const r = j < 5 ? 0.85 : 0.55;
-    const a = Math.PI / 2 + (2 * Math.PI * arm) / 5;
-    points.push(r * Math.cos(a), r * Math.sin(a));
-  }
-  return new Float64Array(points);
-}
-/** The springs of benches/dynamics.rs: secondary j is pin j + 2, carried by the roots, or
- *  (a tip whose arm has a midpoint pin) by that pin: a chain. */
-function springs(m) {
-  return Array.from({ length: m }, (_, j) => ({
-    kind: "pins",
-    pin: j + 2,
-    root: j < 3 && m > 5 + j ? [j + 7] : [0, 1],
-    gravity: [0, -2],
-    limit: 0.3,
-  }));
-}
-/** The body's motion at `t`: a turn and a bob carrying the root pins. */
-function body(t) {
-  return { angle: 0.4 * Math.sin(1.3 * t), d: [0.2 * Math.sin(0.7 * t), 0.15 * Math.cos(2.1 * t)] };
-}
-/** The kinematic targets at `t`: the roots carried by the body, the secondary pins at rest. */
-function kinematic(points, t, targets) {
-  const { angle, d } = body(t);
-  const [s, c] = [Math.sin(angle), Math.cos(angle)];
-  targets.set(points);
-  for (let k = 0; k < 2; k++) {
-    const [x, y] = [points[2 * k], points[2 * k + 1]];
-    targets[2 * k] = c * x - s * y + d[0];
-    targets[2 * k + 1] = s * x + c * y + d[1];
-  }
-}
+// 1. Easing (benches/_motion-easing.mjs).
+easingSection(raw, pkg);
 
 // ---------------------------------------------------------------------------------------
 // 2. Springs against an update at ~3k vertices.
@@ -654,7 +443,7 @@ function kinematic(points, t, targets) {
     if (m > 0) {
       const worst = Math.max(max(first), max(end), max(scrub), max(again));
       verdicts.push(
-        `4. ${name}: the longest seek by construction (a fresh player to 59.999 s: every tick from 0) ≤ 5 ms at ${n} vertices: ${met(median(end) <= 5)} (median ${f3(median(end))} ms over ${fresh} players, max ${f3(max(end))}; = ${ratio(end, firstUpdate)} bare updates; a random first visit: median ${f3(median(first))}, max ${f3(max(first))} ms)`,
+        `4. ${name}: a fresh player's seek to 59.999 s (the springs' latest tick) ≤ 5 ms at ${n} vertices: ${met(median(end) <= 5)} (median ${f3(median(end))} ms over ${fresh} players, max ${f3(max(end))}; = ${ratio(end, firstUpdate)} bare updates; a random first visit: median ${f3(median(first))}, max ${f3(max(first))} ms)`,
       );
       verdicts.push(
         `4. ${name}: every seek ≤ 5 ms: ${met(worst <= 5)} (max ${f3(worst)} ms of ${2 * fresh + 2 * seeks}; the interleaved bare updates' max ${f3(max(updates))} ms against their median ${f3(median(updates))}; scrub median ${f3(median(scrub))}, visited median ${f3(median(again))} ms; load ${f3(median(loads))} ms)`,
