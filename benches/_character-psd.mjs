@@ -8,21 +8,11 @@ import { Character, Mesh } from "bunraku";
 import { readLayersFromPSD } from "bunraku/psd";
 import { median } from "./_time.mjs";
 import { fmt, nowMs } from "./_scale-format.mjs";
+import { random } from "./_random.mjs";
 
 export const PSD_SIDE = 2048;
 export const PSD_LAYERS = 20;
 
-/** A small deterministic generator (mulberry32). */
-function random(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
 
 /** One layer's pixels: an opaque blob (an ellipse with a wavy outline) filling its
  *  `w × h` rectangle, a soft edge 3 px wide, a colour gradient with a little grain (so

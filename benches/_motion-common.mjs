@@ -5,6 +5,7 @@
 import { performance } from "node:perf_hooks";
 import { median } from "./_time.mjs";
 import { spacingFor, star } from "./_star.mjs";
+export { random } from "./_random.mjs";
 
 export const quick = process.argv.includes("--quick");
 
@@ -24,17 +25,6 @@ export const pctText = (x) => `${(100 * x).toPrecision(3)} %`;
 export const met = (ok) => (ok ? "met" : "**not met**");
 export const verdicts = [];
 
-/** A small seeded generator (mulberry32): the same inputs every run. */
-export function random(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
 
 /** The star meshed to about `n` vertices: its vertices and triangles. */
 export function starMesh(lib, n) {
