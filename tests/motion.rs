@@ -1,7 +1,9 @@
 //! Animated documents (issue 25, version 3): parameters whose keyforms are poses, keyed
 //! channels of parameters, pins and weights, and springs on pins, played by the `Player`:
 //! keys exact, positions a function of time alone (any frame rate, any seek), `mix: 0` the
-//! same bits as no springs, and named errors.
+//! same bits as no springs, and named errors. Native only (the documents are written with
+//! serde_json here); the same documents play from JavaScript in tests/node/motion.test.mjs.
+#![cfg(not(target_arch = "wasm32"))]
 
 use bunraku::animation::{Document, Player};
 use bunraku::easing::Easing;
