@@ -42,7 +42,7 @@ function check(spec, value, path, target, out) {
     return;
   }
   if (t === "int" || t === "num") {
-    const problem = numberProblem(spec, value, target, true);
+    const problem = numberProblem(spec, value, target, !spec.anyNumber); // anyNumber: NaN and ±Infinity are numbers too
     if (problem) out.push(`${path} ${problem}`);
     return;
   }
@@ -58,7 +58,8 @@ function check(spec, value, path, target, out) {
   }
   if (t === "array") {
     if (!Array.isArray(value)) return void out.push(`${path}: ${show(value)} is not an array`);
-    if (spec.len !== undefined && value.length !== spec.len) out.push(`${path}: length ${value.length}, not ${spec.len}`);
+    const len = typeof spec.len === "function" ? spec.len(target) : spec.len;
+    if (len !== undefined && value.length !== len) out.push(`${path}: length ${value.length}, not ${len}`);
     for (let i = 0; i < Math.min(value.length, 1000); i++) check({ ...spec.of, optional: false }, value[i], `${path}[${i}]`, target, out);
     return;
   }

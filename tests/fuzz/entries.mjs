@@ -4,11 +4,15 @@
 // checks.mjs holds an accepted call to), how to make valid arguments (`valid`, given the
 // target and its pool item), how to call it (`call`), and what a successful call must have
 // stored (`after`, a round-trip check returning a description of the difference, or null:
-// checks.mjs, and characterchecks.mjs for characters).
+// checks.mjs, characterchecks.mjs for characters, motionchecks.mjs for easings, key tracks,
+// rigs and dynamics).
 import { describe, tag } from "./values.mjs";
 import * as C from "./checks.mjs";
 import * as CC from "./characterchecks.mjs";
+import * as MC from "./motionchecks.mjs";
 import { CHARACTERS, RIGID_POSES, characterPins, drawOrderOf, glueSpecs, pickPoint } from "./characters.mjs";
+import { EASING_TEXTS, correctiveNode, describeKeysCall, dynamicsInputs, keyOptions, keysArgs, keyTime, keyValue, nextTime, notCurve, parameterDefinition, parameterKey,
+  parameterValue, readTime, springSettings } from "./motion.mjs";
 
 const KIND = ["position", "bend", "advanced"];
 const num = (o = {}) => ({ type: "num", ...o });
@@ -66,6 +70,45 @@ const CHARACTER = opts({ spacing: num({ above: 0 }), hidden: en(["skip", "keep"]
 const partsOf = (t) => t.parts.length;
 const CHARACTER_REGISTER = opts({ ...REGISTER.keys, simulation: { type: "absent" } }); // the character's own simulation mesh: null or left out
 CHARACTER_REGISTER.extra = C.otherMethodKeys;
+
+// Animation (issue 25). A key's curve: an Easing, a keyword or cubic-bezier() text, or handles
+// [x1, y1, x2, y2] (x1, x2 in [0, 1]; y within ±1e6); only with interp "bezier" (or none).
+const HANDLES = { type: "array", of: num({ min: -1e6, max: 1e6 }), len: 4 };
+const KEYTRACK = opts({ space: en(["linear", "log"]), interp: en(["linear", "hold"]) });
+const KEYS_READ = opts({ ...KEYTRACK.keys, dims: int({ min: 1, max: 16 }) });
+/** A key's value: one number (one dimension), or `dims` numbers within ±1e100. */
+const KEY_VALUE = or(num({ min: -1e100, max: 1e100 }), { type: "array", of: num({ min: -1e100, max: 1e100 }), len: (t) => t.dims },
+  f64({ len: (t) => t.dims, min: -1e100, max: 1e100 }));
+function keyOptionsProblem(o) {
+  const ease = o.ease ?? undefined;
+  if (o.interp === "bezier" && (ease === undefined || ((typeof ease === "string" || readable(ease)) && notCurve(ease)))) return `interp "bezier" without a curve (ease ${describe(ease)})`;
+  if (ease !== undefined && (o.interp === "linear" || o.interp === "hold")) return `ease with interp ${o.interp}`;
+  if (Array.isArray(ease) && readable(ease) && ease.length === 4 && [ease[0], ease[2]].some((x) => typeof x === "number" && !(x >= 0 && x <= 1))) return `ease ${describe(ease)}: x1, x2 not in [0, 1]`;
+  return null;
+}
+const readable = C.readable;
+const PARAMETER_VALUE = num({ min: -1e15, max: 1e15 });
+const PARAMETER = { type: "opts", required: ["id", "min", "max", "default", "keys"], keys: { id: { type: "str" }, min: PARAMETER_VALUE, max: PARAMETER_VALUE,
+  default: PARAMETER_VALUE, keys: { type: "array", of: PARAMETER_VALUE }, extrapolate: bool } };
+/** A parameter's rules its fields' types cannot say: an id of 1 to 256 bytes, 2 to 64 keys, strictly increasing within [min, max], the default one of them. */
+PARAMETER.extra = (d) => {
+  if (typeof d.id === "string" && !(Buffer.byteLength(d.id) >= 1 && Buffer.byteLength(d.id) <= 256)) return `id of ${Buffer.byteLength(d.id)} bytes`;
+  const k = d.keys;
+  if (!Array.isArray(k) || !readable(k) || !k.every((x) => typeof x === "number")) return null;
+  if (k.length < 2 || k.length > 64) return `${k.length} keys`;
+  if (typeof d.min === "number" && typeof d.max === "number" && !(d.min < d.max)) return `min ${d.min} not below max ${d.max}`;
+  if (k.some((x, i) => (i > 0 && !(x > k[i - 1])) || x < d.min || x > d.max)) return `keys ${describe(k)} not increasing within [min, max]`;
+  return typeof d.default === "number" && !k.includes(d.default) ? `default ${d.default} not a key` : null;
+};
+const IDS = { type: "array", of: { type: "str" }, len: 2 };
+const NODE = { type: "array", of: num(), len: 2 };
+const FORCE = { type: "array", of: num({ min: -1e9, max: 1e9 }), len: 2 };
+const SPRING = { type: "opts", required: ["pin", "root"], keys: { kind: en(["pins"]), pin: int({ min: 0 }), root: { type: "array", of: int({ min: 0 }) },
+  frequency: num({ min: 0.01, max: 100 }), damping: num({ min: 0, max: 100 }), inertia: num({ min: 0, max: 1 }), gravity: FORCE, wind: FORCE,
+  limit: num({ min: 0 }), angleLimit: num({ min: 0 }), mix: num({ min: 0, max: 1 }) } };
+/** A spring's roots: at least one, not its own pin, no repeats. */
+SPRING.extra = (s) => (Array.isArray(s.root) && readable(s.root) && (s.root.length === 0 || s.root.includes(s.pin) || new Set(s.root).size !== s.root.length) ? `root ${describe(s.root)} of pin ${describe(s.pin)}` : null);
+const pins2 = (t) => 2 * t.pinCount;
 
 /** Random helpers over the pool. */
 const pick = (g, list) => list[g.rng.int(list.length)];
@@ -158,7 +201,7 @@ const free = (kind) => ({ name: `${kind}.free`, on: kind, weight: 0.3, frees: tr
 /** The entry table. `weight` (default 1) makes an entry more or less frequent; `maintain`
  *  (a pool object's upkeep before the call, true when it changed it) keeps pool objects small. */
 export function entries(lib) {
-  const { Mesh, Puppet, Blender, Track, Player, Renderer, flatten, surfaceFromOBJ } = lib;
+  const { Mesh, Puppet, Blender, Track, Player, Renderer, flatten, surfaceFromOBJ, Easing, KeyTrack, Rig, Dynamics } = lib;
   return [
     // ---- Mesh
     { name: "Mesh.fromImage", makes: true, params: [{ type: "rgba" }, SIZE, SIZE, IMAGE],
@@ -292,7 +335,10 @@ export function entries(lib) {
     { name: "Player.drawOrderAt", on: "player", params: [num()], valid: (g) => [round(g.rng.range(-1, 3))], call: (t, a) => t.drawOrderAt(...a),
       after: (t, [time], { result }) => C.drawOrderAt(t, time, result) },
     { name: "Player.toJSON", on: "player", params: [], valid: () => [], call: (t) => t.toJSON(), after: (_, __, { result }) => C.jsonClean(result) },
-    getter("player", ["duration", "loop", "mode", "picture", "triangleCount", "triangleDepth", "triangles", "uvs", "vertexCount", "vertices"]),
+    { name: "Player.setValue", on: "player", mutates: true, params: [{ type: "str" }, { ...num(), optional: true }],
+      valid: (g, t) => { const ps = t.parameters; const id = ps.length ? pick(g, ps).id : "turn"; return [id, g.rng.chance(0.2) ? null : parameterValue(g, ps, id)]; },
+      call: (t, a) => t.setValue(...a), after: (t, a) => MC.playerValueSet(t, a) },
+    getter("player", ["duration", "loop", "mode", "parameters", "picture", "triangleCount", "triangleDepth", "triangles", "uvs", "vertexCount", "vertices"]),
     free("player"),
 
     // ---- Renderer
@@ -329,6 +375,89 @@ export function entries(lib) {
     { name: "Character.toDocument", on: "character", weight: 0.5, params: [], valid: () => [], call: (t) => t.toDocument(), after: (t, _, { result }) => CC.characterDocument(t, result, lib) },
     getter("character", ["atlas", "drawOrder", "glue", "parts", "triangles", "uvs", "vertices", "warnings"]),
     free("character"),
+
+    // ---- Easing (issue 25)
+    { name: "Easing.parse", makes: true, params: [{ type: "str" }], valid: (g) => [pick(g, EASING_TEXTS)], call: (_, a) => Easing.parse(...a),
+      after: (e, a) => MC.easingParsed(e, a, lib) },
+    { name: "Easing.cubicBezier", makes: true, params: [num({ min: 0, max: 1 }), num({ min: -1e6, max: 1e6 }), num({ min: 0, max: 1 }), num({ min: -1e6, max: 1e6 })],
+      valid: (g) => [round(g.rng.next()), round(g.rng.range(-2, 3)), round(g.rng.next()), round(g.rng.range(-2, 3))], call: (_, a) => Easing.cubicBezier(...a),
+      after: (e, a) => MC.bezierMade(e, a, lib) },
+    { name: "Easing.at", on: "easing", weight: 1.5, params: [num()], valid: (g) => [round(g.rng.range(-0.5, 1.5))], call: (t, a) => t.at(...a),
+      after: (t, a, { result }) => MC.easingAt(t, a, result) },
+    { name: "Easing.atInto", on: "easing", params: [f64(), { type: "f64" }],
+      valid: (g) => { const n = g.rng.int(9); return [f64Of(Array.from({ length: n }, () => round(g.rng.range(-0.5, 1.5)))), new Float64Array(n)]; },
+      call: (t, a) => t.atInto(...a), after: (t, a) => MC.easingAtInto(t, a) },
+    { name: "Easing.toString", on: "easing", params: [], valid: () => [], call: (t) => t.toString(), after: (t) => MC.easingReadsBack(t, lib) },
+    getter("easing", ["handles"]),
+    free("easing"),
+
+    // ---- KeyTrack (issue 25)
+    { name: "new KeyTrack", makes: true, params: [int({ min: 1, max: 16 }), KEYTRACK],
+      valid: (g) => [1 + g.rng.int(4), some(g, { space: pick(g, ["linear", "log"]), interp: pick(g, ["linear", "hold"]) })],
+      call: (_, a) => new KeyTrack(...a), after: (k, a) => MC.keyTrackMade(k, a, lib) },
+    { name: "KeyTrack.fromJSON", makes: true, params: [{ type: "json" }, KEYS_READ], valid: (g) => keysArgs(g), call: (_, a) => KeyTrack.fromJSON(...a), describeCall: describeKeysCall(describe),
+      after: (k, a) => MC.keysRead(k, a, lib) },
+    { name: "KeyTrack.addKey", on: "keytrack", mutates: true, weight: 2,
+      params: [num({ min: -1e12, max: 1e12 }), KEY_VALUE, { ...opts({ interp: en(["linear", "hold", "bezier"]), ease: or({ type: "obj", cls: lib.Easing }, { type: "str" }, HANDLES) }), extra: keyOptionsProblem }],
+      maintain: (t) => t.length > 24 && (t.clear(), true),
+      valid: (g, t) => [keyTime(g, t), keyValue(g, t), keyOptions(g)], call: (t, a) => t.addKey(...a), after: (t, a, { result }) => MC.keyAdded(t, a, result, lib) },
+    { name: "KeyTrack.removeKey", on: "keytrack", mutates: true, weight: 0.5, params: [int({ min: 0, below: (t) => t.length })], valid: (g, t) => [g.rng.int(Math.max(1, t.length))],
+      call: (t, a) => t.removeKey(...a), prepare: (t) => t.length, after: (t, [i], { before }) => (t.length === before - 1 ? null : `removeKey(${C.show(i)}): ${before} keys, then ${t.length}`) },
+    { name: "KeyTrack.clear", on: "keytrack", mutates: true, weight: 0.2, params: [], valid: () => [], call: (t) => t.clear(), after: (t) => (t.length === 0 ? null : `clear() left ${t.length} keys`) },
+    { name: "KeyTrack.valueInto", on: "keytrack", weight: 1.5, params: [num(), { type: "f64", len: (t) => t.dims }], valid: (g, t) => [readTime(g, t), new Float64Array(t.dims)],
+      call: (t, a) => t.valueInto(...a), after: (t, a) => MC.keyValueAt(t, a) },
+    { name: "KeyTrack.toJSON", on: "keytrack", params: [], valid: () => [], call: (t) => t.toJSON(), after: (t) => MC.keysRoundTrip(t, lib) },
+    getter("keytrack", ["dims", "length", "times"]),
+    free("keytrack"),
+
+    // ---- Rig (issue 25)
+    { name: "Rig.register", makes: true, params: [f64(), { type: "u32" }, opts({ iterations: int({ min: 0, max: 100 }), flipped: en(["reject", "clamp"]) })],
+      valid: (g) => { const m = pick(g, g.pool.data.grids); return [m.vertices, m.triangles, some(g, { iterations: g.rng.int(3), flipped: pick(g, ["reject", "clamp"]) })]; },
+      call: (_, a) => Rig.register(...a), after: (r, a) => MC.rigMade(r, a) },
+    { name: "Rig.addParameter", on: "rig", mutates: true, params: [PARAMETER], valid: (g) => [parameterDefinition(g)], call: (t, a) => t.addParameter(...a),
+      after: (t, a) => MC.parameterAdded(t, a) },
+    { name: "Rig.setKeyform", on: "rig", mutates: true, weight: 1.5, params: [{ type: "str" }, num(), f64({ len: (t) => 2 * t.vertexCount, min: -1e100, max: 1e100 })],
+      valid: (g, t, item) => [...parameterKey(g, t), poseOf(g, item.meta.rest)], call: (t, a) => t.setKeyform(...a),
+      prepare: (t) => t.keyformCount, after: (t, a, { before }) => MC.keyformSet(t, a, before, true) },
+    { name: "Rig.clearKeyform", on: "rig", mutates: true, weight: 0.5, params: [{ type: "str" }, num()], valid: (g, t) => parameterKey(g, t),
+      call: (t, a) => t.clearKeyform(...a), prepare: (t) => t.keyformCount, after: (t, a, { before }) => MC.keyformSet(t, a, before, false) },
+    { name: "Rig.hasKeyform", on: "rig", params: [{ type: "str" }, num()], valid: (g, t) => parameterKey(g, t), call: (t, a) => t.hasKeyform(...a),
+      after: (_, __, { result }) => (typeof result === "boolean" ? null : `hasKeyform gave ${C.show(result)}`) },
+    { name: "Rig.addCorrective", on: "rig", mutates: true, params: [IDS, NODE, f64({ len: (t) => 2 * t.vertexCount, min: -1e100, max: 1e100 })],
+      valid: (g, t, item) => [...correctiveNode(g, t), poseOf(g, item.meta.rest)], call: (t, a) => t.addCorrective(...a), prepare: (t) => t.keyformCount,
+      after: (t, _, { before }) => (t.keyformCount === before || t.keyformCount === before + 1 ? null : `addCorrective: keyformCount ${before}, then ${t.keyformCount}`) },
+    { name: "Rig.clearCorrective", on: "rig", mutates: true, weight: 0.5, params: [IDS, NODE], valid: (g, t) => correctiveNode(g, t), call: (t, a) => t.clearCorrective(...a),
+      prepare: (t) => t.keyformCount, after: (t, _, { before }) => (t.keyformCount === before || t.keyformCount === before - 1 ? null : `clearCorrective: keyformCount ${before}, then ${t.keyformCount}`) },
+    { name: "Rig.setValue", on: "rig", mutates: true, weight: 2, params: [{ type: "str" }, num()],
+      valid: (g, t) => { const [id] = parameterKey(g, t); return [id, parameterValue(g, t.parameters, id)]; }, call: (t, a) => t.setValue(...a),
+      after: (t, a, { result }) => MC.valueSet(t, a, result) },
+    { name: "Rig.value", on: "rig", params: [{ type: "str" }], valid: (g, t) => [parameterKey(g, t)[0]], call: (t, a) => t.value(...a),
+      after: (_, [id], { result }) => (Number.isFinite(result) ? null : `value(${C.show(id)}) is ${C.show(result)}`) },
+    { name: "Rig.reset", on: "rig", mutates: true, weight: 0.3, params: [], valid: () => [], call: (t) => t.reset(), after: (t) => MC.rigReset(t) },
+    { name: "Rig.weightsInto", on: "rig", params: [{ type: "f64", len: (t) => t.weightCount }], valid: (g, t) => [new Float64Array(t.weightCount)],
+      call: (t, a) => t.weightsInto(...a), after: (t, a) => MC.weightsFinite(t, a) },
+    { name: "Rig.poseInto", on: "rig", params: [{ type: "f64", len: (t) => 2 * t.vertexCount }], valid: (g, t) => [new Float64Array(2 * t.vertexCount)],
+      call: (t, a) => t.poseInto(...a), after: (_, [out]) => C.finiteResult(out) },
+    { name: "Rig.weightIndex", on: "rig", params: [{ type: "str" }, num()], valid: (g, t) => parameterKey(g, t), call: (t, a) => t.weightIndex(...a),
+      after: (t, _, { result }) => MC.weightIndexIn(t, result) },
+    getter("rig", ["keyformCount", "parameters", "vertexCount", "weightCount"]),
+    free("rig"),
+
+    // ---- Dynamics (issue 25)
+    { name: "Dynamics.create", makes: true, params: [{ type: "obj", cls: Puppet }, { type: "array", of: SPRING }, opts({ tick: int({ min: 1, max: 1000 }) })],
+      valid: (g) => { const p = pick(g, g.pool.byKind.puppet).obj; return [p, springSettings(g, p.handleCount), some(g, { tick: pick(g, [1, 60, 120, 1000]) })]; },
+      call: (_, a) => Dynamics.create(...a), after: (d, a) => MC.dynamicsMade(d, a) },
+    { name: "Dynamics.targetsInto", on: "dynamics", mutates: true, weight: 2,
+      params: [num({ min: 0, max: 1e9 }), f64({ len: pins2, min: -1e100, max: 1e100 }), { ...f64({ len: pins2 }), optional: true }, { type: "f64", len: pins2 }, { type: "f64", len: pins2, optional: true }],
+      valid: (g, t) => { const [targets, rotations] = dynamicsInputs(g, t); const n = 2 * t.pinCount; return [nextTime(g, t), targets, rotations, new Float64Array(n), g.rng.chance(0.5) ? new Float64Array(n) : undefined]; },
+      call: (t, a) => t.targetsInto(...a), after: (t, a) => MC.targetsMoved(t, a) },
+    { name: "Dynamics.reset", on: "dynamics", mutates: true, weight: 0.3, params: [], valid: () => [], call: (t) => t.reset(), after: (t) => MC.dynamicsReset(t) },
+    { name: "Dynamics.settle", on: "dynamics", mutates: true, weight: 0.5, params: [num({ min: 0, max: 60 })], valid: (g) => [pick(g, [0, 0.1, 0.5, 2, 60])],
+      call: (t, a) => t.settle(...a), after: (t) => (Number.isFinite(t.lag) ? null : `lag ${C.show(t.lag)} after settle`) },
+    { name: "Dynamics.state", on: "dynamics", params: [num({ anyNumber: true })], valid: (g, t) => [g.rng.int(t.pinCount + 1)], call: (t, a) => t.state(...a),
+      after: (t, a, { result }) => MC.stateRead(t, a, result) },
+    getter("dynamics", ["lag", "pinCount", "tick"]),
+    free("dynamics"),
 
     // ---- Free functions
     { name: "flatten", params: [f64(), { type: "u32" }, FLATTEN],

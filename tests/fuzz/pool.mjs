@@ -1,12 +1,14 @@
 // The pool of valid objects and data the fuzzer draws from: meshes, puppets of each method,
 // blenders, tracks, players of documents the library itself wrote, renderers, layered
-// characters with their puppets and blenders (characters.mjs), and freed objects of each
-// class. Each object comes with `snapshot` (what it holds, read by getters: a failed call
-// must leave it unchanged) and `probe` (what it answers to a fixed call: it must still
-// answer, and the same, after a failed call).
+// characters with their puppets and blenders (characters.mjs), easings, key tracks, rigs,
+// dynamics and animated documents (motion.mjs), and freed objects of each class. Each object
+// comes with `snapshot` (what it holds, read by getters: a failed call must leave it
+// unchanged) and `probe` (what it answers to a fixed call: it must still answer, and the
+// same, after a failed call).
 import { tag } from "./values.mjs";
 import { bar } from "../node/_grid.mjs";
 import { addCharacters, characterSnapshot, characterProbe } from "./characters.mjs";
+import { addMotion, motionSnapshot, motionProbe, motionBorrow, motionRead } from "./motion.mjs";
 
 /** A w × h grid of unit squares (the Node tests' `bar`), its arrays labelled for reproducers. */
 export function grid(w, h = w) {
@@ -53,6 +55,7 @@ const SNAPSHOT = {
   player: (p) => key([p.mode, p.duration, p.loop, p.toJSON()]),
   renderer: (r) => key([r.width, r.height]),
   character: (c) => characterSnapshot(c, key),
+  ...Object.fromEntries(Object.entries(motionSnapshot).map(([kind, f]) => [kind, (o) => f(o, key)])),
 };
 
 const tiny = grid(1);
@@ -67,6 +70,7 @@ const BORROW = {
   player: (p) => p.positionsInto(0, new Float64Array(1)),
   renderer: (r) => r.render(tiny.vertices, tiny.triangles, tinyUv, 0, 0),
   character: (c) => { c.drawOrder = []; }, // read, then the order borrowed to be set, and refused
+  ...motionBorrow,
 };
 
 /** What each class answers to a fixed call (stateless methods: a solve; others: reads). */
@@ -89,6 +93,7 @@ const PROBE = {
   player: (p) => key(p.positionsAt(0.37)),
   renderer: (r) => key(r.render(tiny.vertices, tiny.triangles, tinyUv, 4, 3, { background: [1, 2, 3, 4] })),
   character: (c) => characterProbe(c, key),
+  ...Object.fromEntries(Object.entries(motionProbe).map(([kind, f]) => [kind, (o) => f(o, key)])),
 };
 
 /** A read-only call on an object of each class, for getters that call back into it. */
@@ -100,6 +105,7 @@ export const READ = {
   player: (p) => p.vertexCount,
   renderer: (r) => r.width,
   character: (c) => c.drawOrder,
+  ...motionRead,
 };
 
 /** An object of the pool: its class, a label for reproducers, how to make it again. */
@@ -210,6 +216,9 @@ export function buildPool(lib) {
   // Characters (issue 24), their puppets, blenders and documents.
   const { layerSets, docs: characterDocs } = addCharacters(add, lib);
 
+  // Easings, key tracks, rigs, dynamics (issue 25) and animated documents (version 3).
+  const motion = addMotion(add, lib);
+
   // Documents, written by the library (Player.load(...).toJSON()).
   const mesh = { vertices: plain(g3.vertices), triangles: plain(g3.triangles), uvs: plain(m0.obj.uvs) };
   const base = { format: "bunraku-puppet", version: 1, picture: { url: "p.png", width: 3, height: 3 }, mesh };
@@ -225,7 +234,7 @@ export function buildPool(lib) {
     simulation: { vertices: plain(sim.vertices), triangles: plain(sim.triangles), parent: plain(sim.parent), weights: plain(sim.weights) },
     poses: [{ positions: plain(sim.vertices).map((x, i) => (i % 2 ? x : 1.2 * x)) }], weights: { times: [0, 1], values: [0, 1] }, loop: true };
   const docs = [];
-  for (const [label, doc, played = true] of [["trackDoc", trackDoc], ["weightDoc", weightDoc], ["stillDoc", base], ["injectiveDoc", injDoc], ["simulationDoc", simDoc], ...characterDocs]) {
+  for (const [label, doc, played = true] of [["trackDoc", trackDoc], ["weightDoc", weightDoc], ["stillDoc", base], ["injectiveDoc", injDoc], ["simulationDoc", simDoc], ...characterDocs, ...motion.docs]) {
     const clean = JSON.parse(JSON.stringify(doc));
     const saved = Player.load(clean).toJSON();
     docs.push(tag(saved, label));
@@ -239,7 +248,7 @@ export function buildPool(lib) {
 
   // Freed objects of every class.
   const freed = {};
-  for (const kind of ["mesh", "puppet", "blender", "track", "player", "renderer", "character"]) {
+  for (const kind of ["mesh", "puppet", "blender", "track", "player", "renderer", "character", "easing", "keytrack", "rig", "dynamics"]) {
     const source = items.find((it) => it.kind === kind);
     const it = new Item(kind, `freed ${source.label}`, source.build);
     it.obj.free();
@@ -261,6 +270,7 @@ export function buildPool(lib) {
     surfaces: [bentGrid(3)],
     poses,
     layerSets,
+    keyData: motion.keyData,
     simulation: sim,
     wasmBytes: tag({ module: new Uint8Array(8) }, "{ module: <bytes> }"),
   };

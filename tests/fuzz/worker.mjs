@@ -43,10 +43,11 @@ const shape = (message) => String(message).replace(/\d+(\.\d+)?(e[+-]?\d+)?/g, "
 let epochStart = start;
 let current = { index: -1, repro: "", note: "", entry: "" };
 
-/** Posts a failure: its category, a key that identifies it among others, the message. */
-function fail(category, key, message = "") {
+/** Posts a failure: its category, a key that identifies it among others (of any entry when
+ *  `anyEntry`, else of this entry), the message. */
+function fail(category, key, message = "", anyEntry = false) {
   const { index, repro, note } = current;
-  parentPort.postMessage({ type: "failure", category, key: `${current.entry}: ${key}`, message: String(message).slice(0, 400), index, repro, note, epochStart });
+  parentPort.postMessage({ type: "failure", category, key: anyEntry ? key : `${current.entry}: ${key}`, message: String(message).slice(0, 400), index, repro, note, epochStart });
 }
 
 /** Counts a thrown value: coded (by code), passed through, uncoded. Returns the category. */
@@ -58,6 +59,12 @@ function countError(e, where = "") {
     return "coded";
   }
   c[SLOT.uncoded]++;
+  if (e instanceof Error && typeof e.code === "string") {
+    // A code the declarations do not list (the ErrorCode union of pkg/bunraku.d.ts): no
+    // TypeScript caller can branch on it. One failure per code, whatever the message.
+    fail("uncoded error", `${where}undeclared code ${JSON.stringify(e.code)} (not in ErrorCode of pkg/bunraku.d.ts)`, `${current.entry}: ${e.message}`, true);
+    return "uncoded";
+  }
   const what = e instanceof Error ? `${e.constructor.name}${e.code !== undefined ? ` (code ${describe(e.code)})` : ""}` : `thrown ${typeof e}`;
   fail("uncoded error", `${where}${what}: ${shape(e?.message ?? describe(e))}`, e?.message ?? describe(e));
   return "uncoded";
@@ -123,7 +130,7 @@ function perturb(rng, ctx, entry, args, done = new Set()) {
 
 /** The call as one line of JS, from the pool labels and value descriptions. */
 function reproLine(entry, item, args, g) {
-  if (entry.describeCall) return entry.describeCall(item.label, args, g);
+  if (entry.describeCall) return entry.describeCall(item?.label, args, g);
   const list = args.map((a) => describe(a)).join(", ");
   if (!entry.on) return entry.name.startsWith("new ") ? `${entry.name}(${list})` : `${entry.name}(${list})`;
   return `(${item.label}).${entry.name.split(".").pop()}(${list})`;
