@@ -211,10 +211,12 @@ function plain(value: unknown, parent: string, key: string | number, depth: numb
 /** The functions whose first argument is a document, given as an object or its JSON text:
  *  an object is read strictly (what JSON cannot hold is an error naming its path, never
  *  `null` or dropped as `JSON.stringify` would) and passed on as its JSON text. */
-const DOCUMENTS: Record<string, { code: ErrorCode; what: string; root: string }> = {
+const DOCUMENTS: Record<string, { code: ErrorCode; what: string; root: string; list?: boolean }> = {
   "Player.load": { code: "bad-document", what: "puppet document", root: "" },
   "Track.fromJSON": { code: "bad-document", what: "puppet document", root: "track" },
   "Mesh.fromJSON": { code: "bad-json", what: "mesh JSON", root: "" },
+  // A channel's keys: an array.
+  "KeyTrack.fromJSON": { code: "bad-document", what: "puppet document", root: "keys", list: true },
 };
 
 /** The arguments of `call` as plain data (see `plain`), or a coded error. `names` are the
@@ -225,7 +227,7 @@ function plainArguments(call: string, names: string[], args: unknown[]): unknown
   return args.map((arg, i) => {
     const name = names[i] ?? `arguments[${i}]`;
     try {
-      if (document && i === 0 && typeof arg === "object" && arg !== null && !Array.isArray(arg)) {
+      if (document && i === 0 && typeof arg === "object" && arg !== null && (document.list || !Array.isArray(arg))) {
         const json: Reading = { left: MAX_PLAIN_VALUES, json: document };
         // Fields are named from the document's root: "track.times[3]", "poses[0]".
         return JSON.stringify(plain(arg, "", document.root, 0, json));

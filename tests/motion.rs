@@ -176,6 +176,9 @@ fn springs_play_the_same_bits_at_any_frame_rate_and_seek() {
         a.iter().find(|(t, _)| (*t - 0.4).abs() < 1e-12).map(|x| x.1.clone()).unwrap_or(early.clone())
     );
     assert_eq!(bits(&player.positions_at(1.9).unwrap()), late);
+    // After the end the pose holds, before 0 too: no walk to a far time.
+    assert_eq!(bits(&player.positions_at(1e9).unwrap()), bits(&player.positions_at(2.0).unwrap()));
+    assert_eq!(bits(&player.positions_at(-1.0).unwrap()), bits(&player.positions_at(0.0).unwrap()));
     // The springs move the tip: away from the no-spring positions while the tip moves.
     let mut plain = Player::new(pin_channels("")).unwrap();
     let differs = (1..20).any(|k| {
@@ -259,6 +262,9 @@ fn animated_documents_are_checked() {
         json(&v)
     ));
     assert!(err(bad_keyform).contains("parameters[0].keyforms[1].pose"));
+    let mut long = pin_channels(r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1]}]"#);
+    (long.looping, long.duration) = (Some(true), Some(1e5));
+    assert!(err(long).contains("duration"), "a loop's pre-roll is bounded before any work");
     let mut bad_tick = pin_channels(r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1]}]"#);
     bad_tick.tick = Some(0);
     assert!(err(bad_tick).contains("tick"));
@@ -285,7 +291,7 @@ fn swinging(spring: &str) -> Document {
         r#","poses":[{{"positions":{}}},{{"positions":{}}},{{"positions":{}}}],
         "parameters":[{{"id":"headX","min":0,"max":30,"default":0,"keys":[0,30],"keyforms":[{{"pose":null}},{{"pose":0}}]}},
                       {{"id":"ear","min":-1,"max":1,"default":0,"keys":[-1,0,1],"keyforms":[{{"pose":1}},{{"pose":null}},{{"pose":2}}]}}],
-        "channels":[{{"target":"parameters.headX","keys":[{{"t":0,"v":0,"ease":"ease-in-out"}},{{"t":0.5,"v":30}}]}}]{spring}"#,
+        "channels":[{{"target":"parameters.headX","keys":[{{"t":0,"v":0,"ease":"ease-in-out"}},{{"t":0.5,"v":30}}]}}],"duration":12{spring}"#,
         json(&turned(&v, 30.0)),
         json(
             &bent
@@ -334,6 +340,9 @@ fn a_parameter_springs_from_another_and_plays_the_same_bits_at_any_frame_rate() 
     let swung = (1..12).map(|k| gap(&mut player, &mut still, k as f64 * 0.1)).fold(0.0, f64::max);
     assert!(swung > 0.05, "the ear swung by {swung}");
     assert!(gap(&mut player, &mut still, 12.0) < 1e-3 * swung, "and settled");
+    // After the animation's end it holds, as every animation does (no walk to a far time).
+    assert_eq!(bits(&player.positions_at(1e9).unwrap()), bits(&player.positions_at(12.0).unwrap()));
+    assert_eq!(bits(&player.positions_at(-5.0).unwrap()), bits(&player.positions_at(0.0).unwrap()));
 }
 
 #[test]

@@ -25,6 +25,20 @@ pub(crate) fn tick(d: &Document) -> Result<Tick> {
     }
 }
 
+/// Checks, before any work, that the springs' ticks to the animation's `end`, after a loop's
+/// pre-roll of one `period`, are at most [`MAX_BAKED_SAMPLES`]. Errors name `duration`.
+pub(crate) fn check_span(end: f64, period: f64, tick: Tick) -> Result<()> {
+    let ticks = ((end + period) * tick.hz() as f64).ceil();
+    if ticks.is_finite() && ticks < MAX_BAKED_SAMPLES as f64 {
+        return Ok(());
+    }
+    let reason = format!(
+        "and the animation's end ({end} s) need {ticks} ticks of {} Hz, more than {MAX_BAKED_SAMPLES}",
+        tick.hz()
+    );
+    Err(fault(DocumentFault::Structure, "duration".into(), reason))
+}
+
 /// The document's springs on pins at rest at `points`, of kinds `kinds`. Errors
 /// ([`crate::Error::BadDocument`] naming the spring): a kind other than `"pins"`, the
 /// settings [`Dynamics::new`] refuses.
@@ -78,11 +92,8 @@ pub(crate) fn bake(
     period: Option<f64>,
 ) -> Result<TrackJson> {
     let hz = tick.hz() as f64;
+    check_span(end, period.filter(|_| springs.is_some()).unwrap_or(0.0), tick)?;
     let steps = (end * hz).ceil();
-    if !(steps.is_finite() && steps < MAX_BAKED_SAMPLES as f64) {
-        let reason = format!("{end} s at {hz} Hz is more than {MAX_BAKED_SAMPLES} samples");
-        return Err(fault(DocumentFault::Structure, "duration".into(), reason));
-    }
     let (n, count) = (kinds.len(), steps as usize + 1);
     let mut targets = vec![[0.0; 2]; n];
     let mut rotations = vec![Rotation::default(); n];

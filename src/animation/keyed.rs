@@ -68,6 +68,9 @@ pub(super) struct Sprung {
     source: Kinematic,
     /// A loop's period (its springs played one period ahead, so that it has no seam), or 0.
     period: f64,
+    /// The animation's end: a document that does not loop holds its pose after it (and
+    /// before 0), as it holds its last sample.
+    end: f64,
 }
 
 /// What moves the pins before the springs do.
@@ -98,6 +101,7 @@ impl Exact {
             Exact::Channels(c) => c.sample_into(t, targets, rotations),
             Exact::Sprung(s) => {
                 let (source, period) = (&mut s.source, s.period);
+                let t = if period > 0.0 { t } else { t.clamp(0.0, s.end) };
                 let mut kinematics = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| {
                     source.sample_into(if period > 0.0 { t.rem_euclid(period) } else { t }, a, b)
                 };
@@ -128,7 +132,7 @@ pub(super) fn sprung_track(
     on: &Rendered,
 ) -> Result<Option<Driven>> {
     let Some((mut springs, kinds, tick)) = springs(d)? else { return Ok(None) };
-    let end = track.end();
+    let end = d.duration.unwrap_or(track.end());
     let mut source = Kinematic::Track(track);
     let baked = {
         let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| source.sample_into(t, a, b);
@@ -143,7 +147,7 @@ pub(super) fn sprung_track(
     // the same times), so no seek walks from the start.
     let mut driven = drive(mesh, d, json, on)?;
     driven.exact =
-        Some(Exact::Sprung(Box::new(Sprung { springs, source, period: period(d, end).unwrap_or(0.0) })));
+        Some(Exact::Sprung(Box::new(Sprung { springs, source, period: period(d, end).unwrap_or(0.0), end })));
     Ok(Some(driven))
 }
 
@@ -177,7 +181,7 @@ pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendere
         let tick = tick(d)?;
         let mut springs = dynamics(d, &points, &kinds, tick)?;
         let mut exact = PinChannels::new(channels, points);
-        let end = channels.end;
+        let end = d.duration.unwrap_or(channels.end);
         let baked = {
             let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| exact.sample_into(t, a, b);
             bake(&kinds, &mut sample, end, tick, springs.as_mut(), period(d, end))?
@@ -189,7 +193,7 @@ pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendere
                 Some(springs) => {
                     // Kept as the bake left them: their checkpoints serve every seek.
                     let (source, period) = (Kinematic::Channels(exact), period(d, end).unwrap_or(0.0));
-                    Exact::Sprung(Box::new(Sprung { springs, source, period }))
+                    Exact::Sprung(Box::new(Sprung { springs, source, period, end }))
                 }
             });
         }

@@ -28,6 +28,9 @@ pub(crate) struct Posed {
     tick: Tick,
     /// A loop's period (the springs play one period ahead, so that it has no seam), or 0.
     period: f64,
+    /// The animation's end (`duration`, else the channels'): without a loop, the springs
+    /// hold their state after it.
+    end: f64,
 }
 
 /// A parameter swung by another's motion: Live2D's physics (`ParameterSpring`).
@@ -102,8 +105,11 @@ impl Posed {
         let tick = super::baked::tick(d)?;
         let ids: Vec<String> = parameters.iter().map(|p| p.id.clone()).collect();
         let swings = swings(d, &ids, tick)?;
-        let end = channels.end;
+        let end = d.duration.unwrap_or(channels.end);
         let period = if d.looping.unwrap_or(false) { d.duration.unwrap_or(end) } else { 0.0 };
+        if !swings.is_empty() {
+            super::baked::check_span(end, period, tick)?;
+        }
         Ok(Posed {
             rig,
             ids,
@@ -114,6 +120,7 @@ impl Posed {
             swings,
             tick,
             period,
+            end,
         })
     }
 
@@ -137,6 +144,7 @@ impl Posed {
     fn swing(&mut self, t: f64) -> Result<()> {
         let hz = self.tick.hz() as f64;
         // A loop's springs start one period early, so that its start continues its end.
+        let t = if self.period > 0.0 { t } else { t.clamp(0.0, self.end) };
         let time = (t + self.period).max(0.0);
         let (n, alpha) = self.tick.split(time)?;
         for s in 0..self.swings.len() {

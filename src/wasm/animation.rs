@@ -250,7 +250,7 @@ impl JsPlayer {
     /// Reads a puppet document (`PuppetDocument`, or its JSON text) and prepares its
     /// playback: checks the header, every field and value, then compiles the pins (a track)
     /// or adds the poses to a blender (weights). Throws, naming the field (`error.field`):
-    /// `bad-version` (a version other than 1 or 2), `bad-document` (not JSON, the wrong
+    /// `bad-version` (a version other than 1, 2 or 3), `bad-document` (not JSON, the wrong
     /// `format`, a missing, unknown or mistyped field), `bad-length` (a pose, `uvs` or
     /// track of the wrong length), `non-finite`, and the mesh's, pins' and poses' own
     /// errors (`index-out-of-range`, `handle-outside`, `flipped-triangles`, …).

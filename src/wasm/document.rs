@@ -49,7 +49,7 @@ export interface WeightsJSON {
   values: number[];
 }
 
-/** A puppet document, version 1 or 2: every field is described in docs/puppet-document.md. */
+/** A puppet document, version 1, 2 or 3: every field is described in docs/puppet-document.md. */
 export interface PuppetDocument {
   format: "bunraku-puppet";
   /** 3 for a document with `tick`, `parameters`, `grids`, `channels` or `dynamics`; 2 for one with

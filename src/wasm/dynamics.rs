@@ -17,7 +17,8 @@ const TS: &'static str = r#"
  *  `"pins"`): pin `pin` swings about where the rigid fit of its `root` pins carries its rest
  *  point. */
 export interface SpringSettings {
-  /** `"pins"` (the only kind a puppet's dynamics take). */
+  /** `"pins"`: optional in `Dynamics.create` (the only kind a puppet's springs take), required
+   *  in a document's `dynamics`. */
   kind?: "pins";
   /** The pin the spring moves: its index in the puppet's compiled pins. */
   pin: number;

@@ -99,7 +99,7 @@ impl JsRig {
         let fields = Fields::open(&definition, &["id", "min", "max", "default", "keys", "extrapolate"])?;
         let field = |key: &str| fields.get(key).map(|v| v.unwrap_or(JsValue::UNDEFINED));
         let id_value = field("id")?;
-        let id = id_value.as_string().ok_or_else(|| bad_type("definition.id", "a string", &id_value))?;
+        let id = string(&id_value, "definition.id")?;
         let mut numbers = [0.0; 3];
         for (x, key) in numbers.iter_mut().zip(["min", "max", "default"]) {
             let v = field(key)?;
@@ -195,8 +195,7 @@ impl JsRig {
         #[wasm_bindgen(unchecked_param_type = "number")] value: JsValue,
     ) -> Result<f64, Thrown> {
         let v = number(&value, "value")?;
-        let id = id.as_string().ok_or_else(|| bad_type("id", "a string", &id))?;
-        Ok(self.rig.set_value(&id, v)?)
+        Ok(self.rig.set_value(&string(&id, "id")?, v)?)
     }
 
     /// Parameter `id`'s value. Throws `bad-parameter` for an unknown id.
@@ -288,9 +287,15 @@ impl JsRig {
     }
 }
 
-/// `value` as a string, or `bad-type` naming `argument`.
+/// `value` as a string, or `bad-type` naming `argument`; a string with a lone surrogate
+/// (which Rust would read as U+FFFD, making two ids one) is a `bad-parameter`.
 fn string(value: &JsValue, argument: &str) -> Result<String, Thrown> {
-    value.as_string().ok_or_else(|| bad_type(argument, "a string", value))
+    let text = value.as_string().ok_or_else(|| bad_type(argument, "a string", value))?;
+    if value.dyn_ref::<js_sys::JsString>().is_some_and(|s| !s.is_valid_utf16()) {
+        let reason = "holds a lone surrogate (text that is not valid UTF-16)".into();
+        return Err(Error::BadParameter { id: text, field: "id", value: None, reason }.into());
+    }
+    Ok(text)
 }
 
 /// `value` as a number, or `bad-type` naming `argument` (finiteness is the core's check).

@@ -11,9 +11,9 @@ use serde::Serialize;
 use crate::read::{bounded, from_text};
 use crate::Result;
 
-/// The most keys a channel may hold: 2²⁰, checked from the array's length before any key
-/// is read.
-pub const MAX_KEYS: usize = 1 << 20;
+/// The most keys a channel may hold: 2¹⁶ (18 minutes of keys at 60 a second), counted as
+/// they are read.
+pub const MAX_KEYS: usize = 1 << 16;
 
 /// The most numbers a key's value may hold (a pin's target has 2; angles, scales, weights
 /// and parameters 1).
