@@ -299,7 +299,7 @@ export interface PlayResult {
   readonly generation: number;
   /** Seconds; 0 when there is nothing to play. */
   readonly duration: number;
-  readonly mode: "track" | "weights" | "still";
+  readonly mode: "track" | "weights" | "channels" | "still";
 }
 
 export interface PlayFrameBody {
@@ -338,7 +338,7 @@ export interface LoadDocumentResult {
   readonly poses: Float64Array[];
   readonly duration: number;
   readonly loop: boolean;
-  readonly mode: "track" | "weights" | "still";
+  readonly mode: "track" | "weights" | "channels" | "still";
 }
 
 /** Each request's body and its result. */
