@@ -27,6 +27,15 @@ const ERROR_CODE = () => {
   };
 };
 
+/** A page's script (with `pkg: true` and `modules: ["gl"]`): the wasm package's glue,
+ *  initialised, as `window.bunraku`, and dist/gl.js as `window.gl`. */
+export const PKG_AND_GL_SCRIPT = `<script type="module">
+  const wasm = await import("/pkg/bunraku.js");
+  await wasm.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
+  window.bunraku = wasm;
+  window.gl = await import("/gl.js");
+</script>`;
+
 /**
  * Builds dist/ and launches Chromium before the calling file's tests, and closes it after
  * them (call it at the top level of a test file). Returns `inPage(options, check)`: runs

@@ -13,7 +13,7 @@
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { blankPages, loseAndRestore } from "./_blank.mjs";
+import { PKG_AND_GL_SCRIPT, blankPages, loseAndRestore } from "./_blank.mjs";
 
 const TIMEOUT = 90_000;
 const ORIGIN = "http://bunraku-character-gl.test";
@@ -24,21 +24,12 @@ const blankPage = blankPages({
   ready: () => window.gl !== undefined && window.bunraku !== undefined,
   viewport: { width: 600, height: 400 },
 });
-/** The page's script: the wasm package's glue, initialised, as `window.bunraku`, and
- *  dist/gl.js as `window.gl`. */
-const SCRIPT = `<script type="module">
-  const wasm = await import("/pkg/bunraku.js");
-  await wasm.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
-  window.bunraku = wasm;
-  window.gl = await import("/gl.js");
-</script>`;
-
 /** Runs `check(page)` on a blank page at ORIGIN with `body`: dist/gl.js is `window.gl` (its
  *  modules at /gl/), the wasm package's glue (pkg/, initialised) `window.bunraku`, and
  *  PAGE_HELPERS and `code` (_blank.mjs's ERROR_CODE) are defined; then asserts that the page
  *  reported no error. */
 const inPage = (body, check, deviceScaleFactor = 1) =>
-  blankPage({ html: `<!doctype html><body style="margin:0">${body}${SCRIPT}`, initScript: PAGE_HELPERS, deviceScaleFactor }, check);
+  blankPage({ html: `<!doctype html><body style="margin:0">${body}${PKG_AND_GL_SCRIPT}`, initScript: PAGE_HELPERS, deviceScaleFactor }, check);
 
 /** Functions defined in the page: `layer(name, rect, paint, extra)`, a layer of `rect`
  *  whose pixels are `paint` (a straight [r, g, b, a], or `(x, y) →` one, x and y within

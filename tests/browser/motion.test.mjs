@@ -8,7 +8,7 @@
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { blankPages } from "./_blank.mjs";
+import { PKG_AND_GL_SCRIPT, blankPages } from "./_blank.mjs";
 
 const TIMEOUT = 120_000;
 const blankPage = blankPages({
@@ -18,13 +18,6 @@ const blankPage = blankPages({
   ready: () => window.gl !== undefined && window.bunraku !== undefined,
   viewport: { width: 640, height: 360 },
 });
-const SCRIPT = `<script type="module">
-  const wasm = await import("/pkg/bunraku.js");
-  await wasm.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
-  window.bunraku = wasm;
-  window.gl = await import("/gl.js");
-</script>`;
-
 /** In the page: a w × h grid document (version 3) with `fields`, a picture, and
  *  `play(doc, frames)`: loads it, draws it with a PuppetView for `frames` animation frames
  *  (time from the frame callback, looping) and gives each frame's time and work. */
@@ -77,7 +70,7 @@ const PAGE = () => {
 
 async function measure(t, fields, what) {
   let result;
-  await blankPage({ html: `<!doctype html><body style="margin:0"><canvas id="c" style="width:640px;height:360px"></canvas>${SCRIPT}`, initScript: PAGE }, async (page) => {
+  await blankPage({ html: `<!doctype html><body style="margin:0"><canvas id="c" style="width:640px;height:360px"></canvas>${PKG_AND_GL_SCRIPT}`, initScript: PAGE }, async (page) => {
     result = await page.evaluate(async (source) => {
       const doc = window.gridDocument(60, 30, new Function(`return ${source}`)());
       await window.play(doc, 10);       // warm up

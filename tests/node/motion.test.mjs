@@ -5,30 +5,14 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, Easing, Player } from "bunraku";
-import { bar } from "./_grid.mjs";
+import { angleBetween, bar, turned } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
-const turned = (points, deg) => {
-  const [s, c] = [Math.sin((deg * Math.PI) / 180), Math.cos((deg * Math.PI) / 180)];
-  const out = [];
-  for (let i = 0; i < points.length; i += 2) {
-    const [x, y] = [points[i] - 5, points[i + 1] - 2];
-    out.push(5 + c * x - s * y, 2 + s * x + c * y);
-  }
-  return out;
-};
-const angle = (a, b) => {
-  const mean = (p) => { let x = 0, y = 0; for (let i = 0; i < p.length; i += 2) { x += p[i]; y += p[i + 1]; } return [x / (p.length / 2), y / (p.length / 2)]; };
-  const [ma, mb] = [mean(a), mean(b)];
-  let [s, c] = [0, 0];
-  for (let i = 0; i < a.length; i += 2) {
-    const [ax, ay, bx, by] = [a[i] - ma[0], a[i + 1] - ma[1], b[i] - mb[0], b[i + 1] - mb[1]];
-    c += ax * bx + ay * by;
-    s += ax * by - ay * bx;
-  }
-  return (Math.atan2(s, c) * 180) / Math.PI;
-};
+/** `points` turned by `deg` degrees about (5, 2), as a plain array. */
+const turnedBy = (points, deg) => Array.from(turned(points, (deg * Math.PI) / 180, 5, 2));
+/** The angle of the best rotation from `a` to `b`, in degrees. */
+const angle = (a, b) => (angleBetween(a, b) * 180) / Math.PI;
 
 function base() {
   const { vertices, triangles } = bar(10, 4);
@@ -38,7 +22,7 @@ function base() {
 test("a parameter turns the head along an eased channel, and a live value overrides it", () => {
   const doc = base();
   Object.assign(doc, {
-    poses: [{ positions: turned(doc.mesh.vertices, 30) }],
+    poses: [{ positions: turnedBy(doc.mesh.vertices, 30) }],
     parameters: [{ id: "headX", min: 0, max: 30, default: 0, keys: [0, 30], keyforms: [{ pose: null }, { pose: 0 }] }],
     channels: [{ target: "parameters.headX", keys: [{ t: 0, v: 0, interp: "bezier", ease: [0.42, 0, 0.58, 1] }, { t: 1, v: 30 }] }],
     play: "channels",

@@ -6,37 +6,15 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, Blender, Rig } from "bunraku";
-import { bar } from "./_grid.mjs";
+import { angleBetween, bar, turned } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
 const deg = (d) => (d * Math.PI) / 180;
-/** `points` turned by `a` about (cx, cy). */
-const turned = (points, a, cx = 0, cy = 0) => {
-  const out = new Float64Array(points.length);
-  for (let i = 0; i < points.length; i += 2) {
-    const [x, y] = [points[i] - cx, points[i + 1] - cy];
-    out[i] = cx + Math.cos(a) * x - Math.sin(a) * y;
-    out[i + 1] = cy + Math.sin(a) * x + Math.cos(a) * y;
-  }
-  return out;
-};
 const maxDist = (a, b) => {
   let d = 0;
   for (let i = 0; i < a.length; i += 2) d = Math.max(d, Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1]));
   return d;
-};
-/** The angle of the best rotation taking `a` to `b` (Procrustes, both centred). */
-const angleBetween = (a, b) => {
-  const mean = (p) => { let x = 0, y = 0; for (let i = 0; i < p.length; i += 2) { x += p[i]; y += p[i + 1]; } return [x / (p.length / 2), y / (p.length / 2)]; };
-  const [ma, mb] = [mean(a), mean(b)];
-  let [s, c] = [0, 0];
-  for (let i = 0; i < a.length; i += 2) {
-    const [ax, ay, bx, by] = [a[i] - ma[0], a[i + 1] - ma[1], b[i] - mb[0], b[i + 1] - mb[1]];
-    c += ax * bx + ay * by;
-    s += ax * by - ay * bx;
-  }
-  return Math.atan2(s, c);
 };
 const codeOf = (f) => { try { f(); } catch (e) { return e.code; } return null; };
 
