@@ -5,26 +5,14 @@
 //! serde_json here); the same documents play from JavaScript in tests/node/motion.test.mjs.
 #![cfg(not(target_arch = "wasm32"))]
 
+mod common;
+
 use bunraku::animation::{Document, Player};
 use bunraku::easing::Easing;
 
 /// A 10 × 4 grid of unit squares: flat `[x0, y0, …]` and `[a0, b0, c0, …]`.
 fn grid() -> (Vec<f64>, Vec<u32>) {
-    let (w, h) = (10u32, 4u32);
-    let mut v = vec![];
-    for y in 0..=h {
-        for x in 0..=w {
-            v.extend([x as f64, y as f64]);
-        }
-    }
-    let id = |x: u32, y: u32| y * (w + 1) + x;
-    let mut t = vec![];
-    for y in 0..h {
-        for x in 0..w {
-            t.extend([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
-        }
-    }
-    (v, t)
+    common::Grid::new(10, 4).shape().flat()
 }
 
 /// `points` turned by `degrees` about (5, 2).
