@@ -184,8 +184,16 @@ fn hold_is_exact_at_the_next_key() {
     let json = depth.to_json();
     assert_eq!(
         json.iter().map(|k| k.interp.as_deref()).collect::<Vec<_>>(),
-        [Some("hold"), Some("hold"), None, Some("hold")]
+        [Some("hold"), Some("hold"), Some("linear"), Some("hold")],
+        "a track that holds by default names every key's interpolation"
     );
+    // Read back with the same options, a key without `interp` holds.
+    let again = KeyTrack::from_json(&json, Some(1), depth.options()).unwrap();
+    assert_eq!(again.to_json(), json);
+    let mut bare = json.clone();
+    bare[1].interp = None;
+    let read = KeyTrack::from_json(&bare, Some(1), depth.options()).unwrap();
+    assert_eq!(read.key(1).unwrap().interp, Interp::Hold);
 }
 
 #[test]

@@ -234,10 +234,10 @@ fn animated_documents_are_checked() {
     let mut out = pin_channels("");
     out.channels.as_mut().unwrap()[0].target = "pins[7].target".into();
     assert!(err(out).contains("pins[7]"));
-    let mut mixed = parameter_document();
-    mixed.pins = pin_channels("").pins;
-    mixed.channels.as_mut().unwrap().extend(pin_channels("").channels.unwrap());
-    assert!(err(mixed).contains("channels"));
+    let mut pins_spring_in_pose = parameter_document();
+    pins_spring_in_pose.dynamics =
+        pin_channels(r#","dynamics":[{"kind":"pins","pin":2,"root":[0,1]}]"#).dynamics;
+    assert!(err(pins_spring_in_pose).contains("dynamics[0].kind"), "springs on pins need moving pins");
     let weights_springs = document(&format!(
         r#","poses":[{{"positions":{}}}],"weights":{{"times":[0,1],"values":[0,1]}},"dynamics":[{{"kind":"pins","pin":0,"root":[1]}}]"#,
         json(&v)
@@ -348,4 +348,153 @@ fn parameter_springs_are_checked() {
     let pins_only =
         pin_channels(r#","dynamics":[{"kind":"parameter","parameter":"ear","input":{"parameter":"headX"}}]"#);
     assert!(Player::new(pins_only).unwrap_err().to_string().contains("dynamics[0].kind"));
+}
+
+/// [`parameter_document`] with the pins of [`pin_channels`] and their channels too.
+fn composed_document(extra: &str) -> Document {
+    let mut d = parameter_document();
+    let pins = pin_channels(extra);
+    (d.pins, d.puppet, d.dynamics) = (pins.pins, pins.puppet, pins.dynamics);
+    d.channels.as_mut().unwrap().extend(pins.channels.unwrap());
+    d
+}
+
+#[test]
+fn pins_carry_the_parameters_pose() {
+    let (v, _) = grid();
+    let mut both = Player::new(composed_document("")).unwrap();
+    let mut pins = Player::new(pin_channels("")).unwrap();
+    let mut posed = Player::new(parameter_document()).unwrap();
+    // Parameters at their defaults: the pins' solve, bit for bit.
+    both.set_value("turn", Some(0.0)).unwrap();
+    for k in 0..=20 {
+        let t = k as f64 * 0.1;
+        assert_eq!(bits(&both.positions_at(t).unwrap()), bits(&pins.positions_at(t).unwrap()), "at {t}");
+    }
+    // Pins at rest (t = 0): the parameters' pose.
+    both.set_value("turn", Some(20.0)).unwrap();
+    posed.set_value("turn", Some(20.0)).unwrap();
+    let (a, b) = (both.positions_at(0.0).unwrap(), posed.positions_at(0.0).unwrap());
+    let gap = a.iter().zip(&b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
+    assert!(gap < 1e-9, "pins at rest give the pose ({gap})");
+    // Both on the move: the pose is carried (it differs from either alone).
+    both.set_value("turn", None).unwrap();
+    let t = 0.8;
+    let x = both.positions_at(t).unwrap();
+    assert_ne!(bits(&x), bits(&pins.positions_at(t).unwrap()));
+    assert_ne!(bits(&x), bits(&posed.positions_at(t).unwrap()));
+    assert_eq!(both.parameters().count(), 1);
+    drop(v);
+}
+
+#[test]
+fn a_rigid_motion_of_the_pins_turns_the_pose_rigidly() {
+    // Every pin turned by 90° about (5, 2) at t = 1: the two-step solve is that turn, and
+    // the pose keyed at 30° is drawn turned by 120°.
+    let (v, _) = grid();
+    let channels: Vec<String> = [[0.0, 0.0], [0.0, 4.0], [10.0, 2.0]]
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let q = turned(p, 90.0);
+            format!(
+                r#"{{"target":"pins[{i}].target","keys":[{{"t":0,"v":{}}},{{"t":1,"v":{}}}]}}"#,
+                json(p),
+                json(&q)
+            )
+        })
+        .collect();
+    let d = document(&format!(
+        r#"{PINS},"poses":[{{"positions":{}}}],
+        "parameters":[{{"id":"turn","min":0,"max":30,"default":0,"keys":[0,30],"keyforms":[{{"pose":null}},{{"pose":0}}]}}],
+        "channels":[{{"target":"parameters.turn","keys":[{{"t":0,"v":30}}]}},{}]"#,
+        json(&turned(&v, 30.0)),
+        channels.join(",")
+    ));
+    let mut player = Player::new(d).unwrap();
+    let x = player.positions_at(1.0).unwrap();
+    let expected = turned(&v, 120.0);
+    let gap = x
+        .iter()
+        .zip(expected.chunks_exact(2))
+        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-9, "the 30° pose turned by 90°: {gap}");
+}
+
+#[test]
+fn the_issues_example_document_plays() {
+    // Issue 25's example: a parameter with three keyforms, a parameter channel, a pin
+    // channel and a spring on pin 2 about pins 0 and 1, with the default (injective) method.
+    let (v, _) = grid();
+    let d = document(&format!(
+        r#","poses":[{{"positions":{}}},{{"positions":{}}}],
+        "pins":{{"points":[0,0,0,4,10,2]}},
+        "parameters":[{{"id":"headX","min":-30,"max":30,"default":0,"keys":[-30,0,30],
+          "keyforms":[{{"pose":0}},{{"pose":null}},{{"pose":1}}],"extrapolate":false}}],
+        "tick":120,
+        "channels":[{{"target":"parameters.headX","keys":[{{"t":0,"v":0,"interp":"bezier","ease":[0.42,0,0.58,1]}},{{"t":1,"v":30}}]}},
+          {{"target":"pins[0].target","keys":[{{"t":0,"v":[0,0]}},{{"t":1,"v":[1,0.5],"interp":"hold"}}]}}],
+        "dynamics":[{{"kind":"pins","pin":2,"root":[0,1],"frequency":1.2,"damping":0.12,"inertia":1,
+          "gravity":[0,0],"wind":[0,0],"limit":2,"mix":1}}],
+        "play":"channels""#,
+        json(&turned(&v, -5.0)),
+        json(&turned(&v, 5.0))
+    ));
+    let frames = |fps: u32| -> Vec<Vec<u64>> {
+        let mut player = Player::new(d.clone()).unwrap();
+        (0..=fps).map(|k| bits(&player.positions_at(k as f64 / fps as f64).unwrap())).collect()
+    };
+    let (a, b) = (frames(30), frames(60));
+    for (k, x) in a.iter().enumerate() {
+        assert_eq!(x, &b[2 * k], "30 and 60 fps at frame {k}");
+    }
+    let mut player = Player::new(d).unwrap();
+    let mesh = player.mesh().clone();
+    for k in 0..=30 {
+        let x = player.positions_at(k as f64 / 30.0).unwrap();
+        assert_eq!(bunraku::quality::quality_2d(&mesh, &x).unwrap().flipped, 0, "frame {k}");
+    }
+}
+
+#[test]
+fn keyed_overlap_depths_hold_between_keys() {
+    let overlap = |depth: f64| {
+        format!(
+            r#","overlap":[{{"at":[2,2],"depth":1,"extent":1.5}},{{"at":[8,2],"depth":{depth},"extent":1.5}}]"#
+        )
+    };
+    let keyed = |extra: &str| {
+        document(&format!(
+            r#"{},"channels":[{{"target":"overlap[1].depth","keys":[{{"t":0,"v":0}},{{"t":1,"v":5{extra}}},{{"t":2,"v":-3}}]}}]"#,
+            overlap(0.0)
+        ))
+    };
+    let mut player = Player::new(keyed("")).unwrap();
+    assert!(player.depths_keyed());
+    let still = |depth: f64| Player::new(document(&overlap(depth))).unwrap().triangle_depths().to_vec();
+    let mut out = vec![0.0f32; player.mesh().triangles().len()];
+    for (t, depth) in [(0.0, 0.0), (0.5, 0.0), (0.999, 0.0), (1.0, 5.0), (1.7, 5.0), (2.0, -3.0), (9.0, -3.0)]
+    {
+        player.triangle_depths_into(t, &mut out).unwrap();
+        assert_eq!(out, still(depth), "held: region 1 at depth {depth} at {t} s");
+    }
+    assert_eq!(player.triangle_depths(), &still(0.0)[..], "the document's depths");
+    assert!(still(5.0).iter().any(|&d| d == 5.0) && still(5.0).iter().any(|&d| d == 1.0));
+    // A key may ease its segment instead.
+    let mut eased = Player::new(keyed(r#","interp":"linear""#)).unwrap();
+    eased.triangle_depths_into(1.5, &mut out).unwrap();
+    assert_eq!(out, still(1.0), "linear from 5 to -3: 1 halfway");
+    // Errors.
+    assert!(player.triangle_depths_into(f64::NAN, &mut out).is_err());
+    assert!(player.triangle_depths_into(0.0, &mut out[1..]).is_err());
+    let err = |d: Document| Player::new(d).unwrap_err().to_string();
+    let mut far = keyed("");
+    far.channels.as_mut().unwrap()[0].target = "overlap[2].depth".into();
+    assert!(err(far).contains("channels[0].target"));
+    let mut deep = keyed("");
+    deep.channels.as_mut().unwrap()[0].keys[1].v = bunraku::animation::ValueJson::Number(2e6);
+    assert!(err(deep).contains("channels[0].keys[1].v"));
+    // No depth channel: nothing is keyed, and the still depths are the document's.
+    assert!(!Player::new(document(&overlap(2.0))).unwrap().depths_keyed());
 }

@@ -39,18 +39,33 @@ pub(crate) fn check_span(end: f64, period: f64, tick: Tick) -> Result<()> {
     Err(fault(DocumentFault::Structure, "duration".into(), reason))
 }
 
+/// Which of a document's springs an engine takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Springs {
+    /// Every spring is of the engine's kind (another kind is an error).
+    Only,
+    /// The engine takes the springs of its kind and leaves the others to the other engine
+    /// of a composed document.
+    Mixed,
+}
+
 /// The document's springs on pins at rest at `points`, of kinds `kinds`. Errors
-/// ([`crate::Error::BadDocument`] naming the spring): a kind other than `"pins"`, the
+/// ([`crate::Error::BadDocument`] naming the spring): a kind other than `"pins"` (taken
+/// by the parameters with [`Springs::Mixed`]), the
 /// settings [`Dynamics::new`] refuses.
 pub(crate) fn dynamics(
     d: &Document,
     points: &[[f64; 2]],
     kinds: &[PinKind],
     tick: Tick,
+    which: Springs,
 ) -> Result<Option<Dynamics>> {
     let Some(list) = d.dynamics.as_deref() else { return Ok(None) };
     let mut settings = Vec::with_capacity(list.len());
     for (i, s) in list.iter().enumerate() {
+        if which == Springs::Mixed && s.kind == "parameter" {
+            continue;
+        }
         let bad = |field: &str, reason: &str| {
             fault(DocumentFault::Structure, format!("dynamics[{i}].{field}"), reason.into())
         };
@@ -73,6 +88,9 @@ pub(crate) fn dynamics(
         spring.angle_limit = s.angle_limit.unwrap_or(spring.angle_limit);
         spring.mix = s.mix.unwrap_or(spring.mix);
         settings.push(spring);
+    }
+    if which == Springs::Mixed && settings.is_empty() {
+        return Ok(None);
     }
     let made = Dynamics::new(points, kinds, &settings, tick);
     made.map(Some).map_err(|e| fault(DocumentFault::Structure, "dynamics".into(), e.to_string()))

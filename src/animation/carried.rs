@@ -3,7 +3,7 @@
 
 use super::{check_finite_values, check_len, check_values, fault, DocumentFault};
 use crate::deform::geodesic::Graph;
-use crate::deform::starch::triangle_depths;
+use crate::deform::starch;
 use crate::deform::Overlap;
 use crate::error::Result;
 use crate::locate::Locator;
@@ -41,20 +41,35 @@ pub(crate) fn embedding(d: &Document, mesh: &Mesh) -> Result<Option<Embedding>> 
     Ok(Some(Embedding::new(mesh.clone(), simulation)?))
 }
 
-/// Each triangle's depth of `mesh` for the overlap regions, measured on the simulation
-/// mesh when there is one (each rendered triangle takes its home's depth).
-pub(crate) fn depths(mesh: &Mesh, embedding: Option<&Embedding>, overlap: &[Overlap]) -> Result<Vec<f32>> {
+/// The triangles of `mesh` in each overlap region (see
+/// [`crate::deform::starch::overlap_members`]), measured on the simulation mesh when there
+/// is one (each rendered triangle is in the regions its home is in).
+pub(crate) fn overlap_members(
+    mesh: &Mesh,
+    embedding: Option<&Embedding>,
+    overlap: &[Overlap],
+) -> Result<Vec<Vec<u32>>> {
     if overlap.is_empty() {
-        return Ok(vec![0.0; mesh.triangles().len()]);
+        return Ok(Vec::new());
     }
     let Some(e) = embedding else {
         let locator = Locator::new(mesh);
-        return triangle_depths(mesh, &Graph::new(mesh), &|p| locator.locate(mesh, p), overlap);
+        return starch::overlap_members(mesh, &Graph::new(mesh), &|p| locator.locate(mesh, p), overlap);
     };
     let solved = e.simulation().mesh();
     let mapped: Vec<Overlap> =
         overlap.iter().map(|o| Overlap { at: e.simulation_point(o.at).unwrap_or(o.at), ..*o }).collect();
     let locator = Locator::new(solved);
-    let per = triangle_depths(solved, &Graph::new(solved), &|p| locator.locate(solved, p), &mapped)?;
-    Ok(e.per_rendered_triangle(&per))
+    let per = starch::overlap_members(solved, &Graph::new(solved), &|p| locator.locate(solved, p), &mapped)?;
+    let mut inside = vec![false; solved.triangles().len()];
+    let mut members = Vec::with_capacity(per.len());
+    for region in &per {
+        inside.fill(false);
+        for &t in region {
+            inside[t as usize] = true;
+        }
+        let rendered = e.per_rendered_triangle(&inside);
+        members.push((0..rendered.len() as u32).filter(|&t| rendered[t as usize]).collect());
+    }
+    Ok(members)
 }

@@ -2,7 +2,7 @@
 //! and its keys as a [`KeyTrack`]. Pins' channels give the pins' targets and rotations at
 //! any time ([`PinChannels`]); parameters' channels give the parameters' values.
 
-use super::{fault, Document, DocumentFault, KeyTrack, KeyTrackOptions, ValueSpace};
+use super::{fault, Document, DocumentFault, Interp, KeyTrack, KeyTrackOptions, ValueSpace};
 use crate::error::{Quoted, Result};
 use crate::Rotation;
 
@@ -19,12 +19,26 @@ pub(crate) enum Animated {
     PinScale(usize),
     /// `weights[k]`: pose `k`'s blend weight.
     Weight(usize),
+    /// `overlap[j].depth`: overlap region `j`'s depth (held between keys by default).
+    Depth(usize),
+}
+
+/// How many of each thing a document has that a channel may animate.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Targets<'a> {
+    /// The parameters' ids.
+    pub(crate) ids: &'a [&'a str],
+    pub(crate) pins: usize,
+    pub(crate) poses: usize,
+    pub(crate) overlaps: usize,
 }
 
 impl Animated {
     /// Reads `text`: `parameters.<id>` (one of `ids`), `pins[i].target|angle|scale` (`i <
-    /// pins`), `weights[k]` (`k < poses`). Errors name `field`.
-    fn parse(text: &str, ids: &[&str], pins: usize, poses: usize, field: &str) -> Result<Animated> {
+    /// pins`), `weights[k]` (`k < poses`), `overlap[j].depth` (`j < overlaps`). Errors name
+    /// `field`.
+    fn parse(text: &str, on: Targets, field: &str) -> Result<Animated> {
+        let Targets { ids, pins, poses, overlaps } = on;
         let bad = |reason: String| fault(DocumentFault::Structure, field.into(), reason);
         let index = |inner: &str, count: usize, what: &str| -> Result<usize> {
             let i: usize = inner
@@ -46,6 +60,9 @@ impl Animated {
         if let Some(rest) = text.strip_prefix("weights[").and_then(|r| r.strip_suffix(']')) {
             return Ok(Animated::Weight(index(rest, poses, "pose")?));
         }
+        if let Some(inner) = text.strip_prefix("overlap[").and_then(|r| r.strip_suffix("].depth")) {
+            return Ok(Animated::Depth(index(inner, overlaps, "overlap region")?));
+        }
         if let Some((inner, what)) = text.strip_prefix("pins[").and_then(|r| r.split_once("].")) {
             let i = index(inner, pins, "pin")?;
             return match what {
@@ -59,7 +76,7 @@ impl Animated {
             };
         }
         let reason = format!(
-            "{} is not \"parameters.<id>\", \"pins[i].target\", \"pins[i].angle\", \"pins[i].scale\" or \"weights[k]\"",
+            "{} is not \"parameters.<id>\", \"pins[i].target\", \"pins[i].angle\", \"pins[i].scale\", \"weights[k]\" or \"overlap[j].depth\"",
             Quoted(text)
         );
         Err(bad(reason))
@@ -68,6 +85,11 @@ impl Animated {
     /// Whether it animates a pin.
     pub(crate) fn is_pin(self) -> bool {
         matches!(self, Animated::PinTarget(_) | Animated::PinAngle(_) | Animated::PinScale(_))
+    }
+
+    /// Whether it animates a pose: a parameter or a weight.
+    pub(crate) fn is_pose(self) -> bool {
+        matches!(self, Animated::Parameter(_) | Animated::Weight(_))
     }
 
     /// How many numbers a key of this target holds.
@@ -88,16 +110,16 @@ pub(crate) struct Channels {
 }
 
 impl Channels {
-    /// The channels of `d`, for parameters `ids`, `pins` pins and `poses` poses. Errors
+    /// The channels of `d`, for the document's things `on`. Errors
     /// ([`crate::Error::BadDocument`], naming the channel): a target that is not one of
     /// these, a target animated twice, keys that [`KeyTrack::from_json`] refuses or of the
     /// wrong size.
-    pub(crate) fn new(d: &Document, ids: &[&str], pins: usize, poses: usize) -> Result<Channels> {
+    pub(crate) fn new(d: &Document, on: Targets) -> Result<Channels> {
         let mut tracks: Vec<(Animated, KeyTrack)> = Vec::new();
         let mut end = 0.0f64;
         for (i, c) in d.channels.iter().flatten().enumerate() {
             let field = format!("channels[{i}]");
-            let target = Animated::parse(&c.target, ids, pins, poses, &format!("{field}.target"))?;
+            let target = Animated::parse(&c.target, on, &format!("{field}.target"))?;
             if tracks.iter().any(|(t, _)| *t == target) {
                 let reason = format!("{} is animated by an earlier channel too", Quoted(&c.target));
                 return Err(fault(DocumentFault::Structure, format!("{field}.target"), reason));
@@ -107,7 +129,8 @@ impl Channels {
             }
             let space =
                 if matches!(target, Animated::PinScale(_)) { ValueSpace::Log } else { ValueSpace::Linear };
-            let options = KeyTrackOptions { space, ..KeyTrackOptions::default() };
+            let interp = if matches!(target, Animated::Depth(_)) { Interp::Hold } else { Interp::Linear };
+            let options = KeyTrackOptions { space, interp };
             let track =
                 KeyTrack::from_json_at(&c.keys, Some(target.dims()), options, &format!("{field}.keys"))?;
             end = end.max(track.times().last().copied().unwrap_or(0.0));
@@ -119,7 +142,7 @@ impl Channels {
     /// Whether a channel animates pins, and whether one animates parameters or weights.
     pub(crate) fn kinds(&self) -> (bool, bool) {
         let pins = self.tracks.iter().any(|(t, _)| t.is_pin());
-        (pins, self.tracks.iter().any(|(t, _)| !t.is_pin()))
+        (pins, self.tracks.iter().any(|(t, _)| t.is_pose()))
     }
 }
 
@@ -156,7 +179,7 @@ impl PinChannels {
                 Animated::PinTarget(i) => targets[i] = [v[0], v[1]],
                 Animated::PinAngle(i) => rotations[i].angle = v[0],
                 Animated::PinScale(i) => rotations[i].scale = v[0],
-                Animated::Parameter(_) | Animated::Weight(_) => {}
+                Animated::Parameter(_) | Animated::Weight(_) | Animated::Depth(_) => {}
             }
         }
         Ok(())

@@ -2,10 +2,11 @@
 //! pins, baked on the tick ([`super::baked`]); its keyed pins, driven through the method;
 //! its parameters ([`Posed`]); its keyed weights.
 
-use super::baked::{bake, dynamics, tick};
+use super::baked::{bake, dynamics, tick, Springs};
 use super::channels::{Animated, Channels, PinChannels};
+use super::composed::Composed;
 use super::player::{drive, Driven, Engine, Rendered};
-use super::posed::{mixed_channels, Posed};
+use super::posed::Posed;
 use super::track::parse_kind;
 use super::weights::{blend_poses, Blended};
 use super::{check_values, fault, Document, DocumentFault, Track, TrackJson};
@@ -118,7 +119,7 @@ fn springs(d: &Document) -> Result<Option<(Dynamics, Vec<PinKind>, Tick)>> {
     }
     let (points, kinds) = pins(d, "the animation")?;
     let tick = tick(d)?;
-    Ok(dynamics(d, &points, &kinds, tick)?.map(|s| (s, kinds, tick)))
+    Ok(dynamics(d, &points, &kinds, tick, Springs::Only)?.map(|s| (s, kinds, tick)))
 }
 
 /// A pin track's playback with the document's springs: `None` without springs. A
@@ -170,39 +171,72 @@ pub(super) fn refuse_springs(d: &Document) -> Result<()> {
 
 /// The engine of a document that plays its channels on the solved mesh `mesh`: keyed pins
 /// through the method (exactly at every time for a stateless method without springs, else
-/// sampled on the tick), parameters through a rig, or keyed weights through a blender.
+/// sampled on the tick), parameters through a rig, keyed weights through a blender, or
+/// keyed pins carrying parameters or weights ([`Composed`]).
 pub(super) fn keyed(mesh: &Mesh, d: &Document, channels: &Channels, on: &Rendered) -> Result<Engine> {
     let (pin_channels, pose_channels) = channels.kinds();
-    if pin_channels && (pose_channels || d.parameters.is_some()) {
-        return Err(mixed_channels());
-    }
-    if pin_channels {
-        let (points, kinds) = pins(d, "a channel")?;
-        let tick = tick(d)?;
-        let mut springs = dynamics(d, &points, &kinds, tick)?;
-        let mut exact = PinChannels::new(channels, points);
-        let end = d.duration.unwrap_or(channels.end);
-        let baked = {
-            let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| exact.sample_into(t, a, b);
-            bake(&kinds, &mut sample, end, tick, springs.as_mut(), period(d, end))?
-        };
-        let mut driven = drive(mesh, d, &baked, on)?;
-        if !driven.injective {
-            driven.exact = Some(match springs {
-                None => Exact::Channels(exact),
-                Some(springs) => {
-                    // Kept as the bake left them: their checkpoints serve every seek.
-                    let (source, period) = (Kinematic::Channels(exact), period(d, end).unwrap_or(0.0));
-                    Exact::Sprung(Box::new(Sprung { springs, source, period, end }))
-                }
-            });
+    let posing = pose_channels || d.parameters.is_some();
+    match (pin_channels, posing) {
+        (true, true) => {
+            let pins = keyed_pins(mesh, d, channels, on, Springs::Mixed)?;
+            let pose = keyed_pose(mesh, d, channels, on, Springs::Mixed)?;
+            Ok(Engine::Composed(Box::new(Composed::new(mesh, pins, pose))))
         }
-        return Ok(Engine::Track(Box::new(driven)));
+        (true, false) => Ok(Engine::Track(keyed_pins(mesh, d, channels, on, Springs::Only)?)),
+        (false, true) => keyed_pose(mesh, d, channels, on, Springs::Only),
+        (false, false) => {
+            // Channels of overlap depths alone: the shape stays at rest.
+            refuse_springs(d)?;
+            Ok(Engine::Still)
+        }
     }
+}
+
+/// The keyed pins' engine.
+fn keyed_pins(
+    mesh: &Mesh,
+    d: &Document,
+    channels: &Channels,
+    on: &Rendered,
+    springs: Springs,
+) -> Result<Box<Driven>> {
+    let (points, kinds) = pins(d, "a channel")?;
+    let tick = tick(d)?;
+    let mut springs = dynamics(d, &points, &kinds, tick, springs)?;
+    let mut exact = PinChannels::new(channels, points);
+    let end = d.duration.unwrap_or(channels.end);
+    let baked = {
+        let mut sample = |t: f64, a: &mut [[f64; 2]], b: &mut [Rotation]| exact.sample_into(t, a, b);
+        bake(&kinds, &mut sample, end, tick, springs.as_mut(), period(d, end))?
+    };
+    let mut driven = drive(mesh, d, &baked, on)?;
+    if !driven.injective {
+        driven.exact = Some(match springs {
+            None => Exact::Channels(exact),
+            Some(springs) => {
+                // Kept as the bake left them: their checkpoints serve every seek.
+                let (source, period) = (Kinematic::Channels(exact), period(d, end).unwrap_or(0.0));
+                Exact::Sprung(Box::new(Sprung { springs, source, period, end }))
+            }
+        });
+    }
+    Ok(Box::new(driven))
+}
+
+/// The parameters' engine (a rig), or the keyed weights' (a blender).
+fn keyed_pose(
+    mesh: &Mesh,
+    d: &Document,
+    channels: &Channels,
+    on: &Rendered,
+    springs: Springs,
+) -> Result<Engine> {
     if d.parameters.is_some() {
-        return Ok(Engine::Posed(Box::new(Posed::new(d, mesh, &on.glue, channels)?)));
+        return Ok(Engine::Posed(Box::new(Posed::new(d, mesh, &on.glue, channels, springs)?)));
     }
-    refuse_springs(d)?;
+    if springs == Springs::Only {
+        refuse_springs(d)?;
+    }
     let (blender, count) = blend_poses(mesh, d, &on.glue)?;
     let mut keyed = vec![None; count];
     for (target, track) in &channels.tracks {

@@ -10,9 +10,11 @@ use crate::limits::MAX_COORDINATE;
 
 impl KeyTrack {
     /// The keys as JSON data ([`KeyJson`]): a value of one number as a number, else an
-    /// array; `interp` written unless linear; a curve as the keyword it was made from, else
-    /// its handles. Every number as held, so that [`KeyTrack::from_json`] gives back the
-    /// same keys bit for bit. The options (space, default interpolation) are not written.
+    /// array; `interp` written unless linear in a track whose default is linear (a track
+    /// that holds by default, as overlap depths do, writes every key's); a curve as the
+    /// keyword it was made from, else its handles. Every number as held, so that
+    /// [`KeyTrack::from_json`] with the same options gives back the same keys bit for bit.
+    /// The options (space, default interpolation) are not written.
     pub fn to_json(&self) -> Vec<KeyJson> {
         self.keys()
             .map(|key| KeyJson {
@@ -21,7 +23,8 @@ impl KeyTrack {
                     [x] => ValueJson::Number(*x),
                     v => ValueJson::Vector(v.to_vec()),
                 },
-                interp: (key.interp != Interp::Linear).then(|| key.interp.name().to_string()),
+                interp: (key.interp != Interp::Linear || self.options().interp != Interp::Linear)
+                    .then(|| key.interp.name().to_string()),
                 ease: key.ease.map(|c| match c.keyword() {
                     Some(k) => EaseJson::Keyword(k.to_string()),
                     None => EaseJson::Handles(c.handles()),
@@ -35,7 +38,7 @@ impl KeyTrack {
     /// number), times finite, within ±[`MAX_TIME`] and strictly increasing (no key replaces
     /// another here), values finite, within ±10¹⁰⁰ (and > 0 in log space), `interp` one of
     /// `"linear"`, `"hold"`, `"bezier"` (default `"bezier"` when `ease` is given, else
-    /// `"linear"`, whatever `options.interp`), `ease` with and only with `"bezier"`: a CSS
+    /// `options.interp`: linear unless the track holds by default), `ease` with and only with `"bezier"`: a CSS
     /// keyword, kept, or handles with x1, x2 ∈ [0, 1] and y1, y2 within ±1000000.
     ///
     /// Errors: [`crate::Error::BadDocument`] naming the field (`keys[3].ease[0]`), with
@@ -118,7 +121,7 @@ impl KeyTrack {
             }
             let interp = match &key.interp {
                 None if key.ease.is_some() => Interp::Bezier,
-                None => Interp::Linear,
+                None => options.interp,
                 Some(name) => Interp::from_name(name).ok_or_else(|| {
                     let reason = format!("{} is not \"linear\", \"hold\" or \"bezier\"", Quoted(name));
                     super::fault(Structure, field("interp"), reason)

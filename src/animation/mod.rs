@@ -15,6 +15,9 @@
 //! | `player` | [`Player`]: positions at any time, through a [`crate::Pinned`] or a [`crate::Blender`] |
 //! | `carried` | a document's simulation mesh: what the player solves on, gathered back to the mesh |
 //! | `puppet` | the document's method and options |
+//! | `keyed`, `posed`, `composed` | a document's channels played: pins, parameters or weights, or pins carrying a pose |
+//! | `channels`, `baked`, `weights` | the channels read; pins sampled on the tick with their springs; poses blended by weights |
+//! | `depths` | the overlap regions' depths at any time, keyed or as the document gives them |
 //! | `layered` | a layered character's parts, glue rows, pins on parts and keyed draw order |
 //!
 //! Every sampled value at a sample's time is that sample exactly, and linear in time
@@ -24,6 +27,8 @@
 mod baked;
 mod carried;
 mod channels;
+mod composed;
+mod depths;
 mod keyed;
 mod keys;
 mod keys_json;

@@ -1,6 +1,8 @@
 //! [`Player`]: a puppet document's positions at any time.
 
-use super::channels::Channels;
+use super::channels::{Channels, Targets};
+use super::composed::Composed;
+use super::depths::Depths;
 use super::keyed::{check_motion_version, keyed, refuse_springs, sprung_track, Exact};
 use super::layered::{glue_rows, Layered};
 use super::posed::{parameter_ids, Posed};
@@ -8,7 +10,7 @@ use super::puppet::register_options;
 use super::track::parse_kind;
 use super::weights::{blend, Blended};
 use super::{carried, Track, TrackOptions};
-use super::{check_finite_values, check_len, check_values, fault, fault_at, lerp, segment, DocumentFault};
+use super::{check_finite_values, check_len, check_values, fault, fault_at, DocumentFault};
 use crate::deform::{GlueRow, PoseState};
 use crate::deform::{Method, Overlap, Starch};
 use crate::error::{Error, Quoted, Result};
@@ -76,7 +78,7 @@ pub struct Player {
     /// of its positions to gather from.
     carrier: Option<Box<(Embedding, Vec<[f64; 2]>)>>,
     uvs: Vec<[f32; 2]>,
-    depths: Vec<f32>,
+    depths: Depths,
     duration: f64,
     looping: bool,
     mode: Mode,
@@ -91,6 +93,40 @@ pub(super) enum Engine {
     Track(Box<Driven>),
     Weights(Box<Blended>),
     Posed(Box<Posed>),
+    /// Pins and a pose together ([`super::composed`]).
+    Composed(Box<Composed>),
+}
+
+impl Engine {
+    /// The positions at `t` on the solved mesh into `out` (the still engine leaves `out`
+    /// as it is), allocating nothing.
+    pub(super) fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
+        match self {
+            Engine::Still => Ok(()),
+            Engine::Track(d) => d.positions_into(t, out),
+            Engine::Weights(b) => b.positions_into(t, out),
+            Engine::Posed(r) => r.positions_into(t, out),
+            Engine::Composed(c) => c.positions_into(t, out),
+        }
+    }
+
+    /// The parameters' engine, alone or composed with pins.
+    fn posed(&self) -> Option<&Posed> {
+        match self {
+            Engine::Posed(r) => Some(r),
+            Engine::Composed(c) => c.pose.posed(),
+            _ => None,
+        }
+    }
+
+    /// [`Engine::posed`], mutable.
+    fn posed_mut(&mut self) -> Option<&mut Posed> {
+        match self {
+            Engine::Posed(r) => Some(r),
+            Engine::Composed(c) => c.pose.posed_mut(),
+            _ => None,
+        }
+    }
 }
 
 /// A track driving pins.
@@ -184,14 +220,16 @@ impl Player {
             .map(|o| Overlap { at: o.at, depth: o.depth, extent: o.extent })
             .collect();
         let embedding = carried::embedding(d, &mesh)?;
-        let depths = carried::depths(&mesh, embedding.as_ref(), &overlap)?;
+        let members = carried::overlap_members(&mesh, embedding.as_ref(), &overlap)?;
         let solved = embedding.as_ref().map_or(&mesh, |e| e.simulation().mesh());
         let layered = Layered::new(d, &mesh)?;
         let glue = glue_rows(d, solved.vertices().len())?;
         let ids = parameter_ids(d);
         let pose_count = d.poses.as_ref().map_or(0, Vec::len);
         let pin_count = d.pins.as_ref().map_or(0, |p| p.points.len() / 2);
-        let channels = Channels::new(d, &ids, pin_count, pose_count)?;
+        let on = Targets { ids: &ids, pins: pin_count, poses: pose_count, overlaps: overlap.len() };
+        let channels = Channels::new(d, on)?;
+        let depths = Depths::new(mesh.triangles().len(), &overlap, members, &channels)?;
         let on = Rendered { mesh: &mesh, embedding: embedding.as_ref(), layered: layered.as_ref(), glue };
         let (engine, end) = match mode {
             Mode::Still => (Engine::Still, 0.0),
@@ -244,9 +282,9 @@ impl Player {
     /// document without parameters, an unknown id, or a value the parameter refuses (not
     /// finite, extrapolated too far).
     pub fn set_value(&mut self, id: &str, value: Option<f64>) -> Result<()> {
-        match &mut self.engine {
-            Engine::Posed(r) => r.set_value(id, value),
-            _ => Err(Error::BadParameter {
+        match self.engine.posed_mut() {
+            Some(r) => r.set_value(id, value),
+            None => Err(Error::BadParameter {
                 id: id.into(),
                 field: "",
                 value: None,
@@ -257,11 +295,7 @@ impl Player {
 
     /// The parameters the document plays (none unless it plays its parameters).
     pub fn parameters(&self) -> impl Iterator<Item = &crate::rig::Parameter> {
-        let posed = match &self.engine {
-            Engine::Posed(r) => Some(r.parameters()),
-            _ => None,
-        };
-        posed.into_iter().flatten()
+        self.engine.posed().into_iter().flat_map(Posed::parameters)
     }
 
     /// The rest mesh (triangles counter-clockwise).
@@ -274,9 +308,28 @@ impl Player {
         &self.uvs
     }
 
-    /// Each triangle's depth from the document's overlap regions (0 without).
+    /// Each triangle's depth from the document's overlap regions (0 without), as the
+    /// document gives their depths (see [`Player::triangle_depths_into`] for keyed ones).
     pub fn triangle_depths(&self) -> &[f32] {
-        &self.depths
+        self.depths.still()
+    }
+
+    /// Whether a channel keys an overlap region's depth (`"overlap[j].depth"`): the
+    /// drawing order then changes with time ([`Player::triangle_depths_into`]).
+    pub fn depths_keyed(&self) -> bool {
+        self.depths.keyed()
+    }
+
+    /// Each triangle's depth at time `t` (seconds, looped as the positions are) into `out`
+    /// (one per triangle), allocating nothing: the keyed regions' depths at `t` (held
+    /// between keys unless a key eases), the others as the document gives them. Errors,
+    /// nothing changed: [`Error::BadTime`] (not finite), [`Error::CountMismatch`].
+    pub fn triangle_depths_into(&mut self, t: f64, out: &mut [f32]) -> Result<()> {
+        if !t.is_finite() {
+            return Err(Error::BadTime { time: t, reason: "is not finite" });
+        }
+        let t = if self.looping && self.duration > 0.0 { t.rem_euclid(self.duration) } else { t };
+        self.depths.depths_into(t, out)
     }
 
     /// The animation's length in seconds: the document's `duration`, else the played
@@ -308,30 +361,7 @@ impl Player {
             Some(c) => &mut c.1,
             None => out,
         };
-        match &mut self.engine {
-            Engine::Still => {}
-            Engine::Track(d) => d.positions_into(t, solved)?,
-            Engine::Weights(b) => {
-                if let Some(keyed) = &b.keyed {
-                    let mut value = [0.0];
-                    for (w, track) in b.weights.iter_mut().zip(keyed) {
-                        *w = match track {
-                            Some(track) => track.value_into(t, &mut value).map(|_| value[0])?,
-                            None => 0.0,
-                        };
-                    }
-                } else {
-                    let (k, s) = segment(&b.times, t);
-                    let p = b.weights.len();
-                    for (i, w) in b.weights.iter_mut().enumerate() {
-                        let a = b.values[k * p + i];
-                        *w = if s == 0.0 { a } else { lerp(a, b.values[(k + 1) * p + i], s) };
-                    }
-                }
-                b.blender.blend_into(&b.weights, solved)?;
-            }
-            Engine::Posed(r) => r.positions_into(t, solved)?,
-        }
+        self.engine.positions_into(t, solved)?;
         match (&self.engine, &self.carrier) {
             (Engine::Still, _) => out.copy_from_slice(self.mesh.vertices()),
             (_, Some(c)) => c.0.gather(&c.1, out),
@@ -361,7 +391,8 @@ impl Player {
 }
 
 impl Driven {
-    fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
+    /// The pins' solve at `t` into `out`.
+    pub(super) fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
         if self.injective {
             return self.interpolated(t, out);
         }

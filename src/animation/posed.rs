@@ -2,6 +2,7 @@
 //! whose keyforms are `poses`, valued at each time by the parameters' channels, their
 //! live overrides ([`crate::animation::Player::set_value`]) or their defaults.
 
+use super::baked::Springs;
 use super::channels::{Animated, Channels};
 use super::{fault, Document, DocumentFault, KeyTrack};
 use crate::blend::{BlendOptions, Flipped};
@@ -54,7 +55,13 @@ impl Posed {
     /// rows `glue`), their keyforms `d.poses`, valued by `channels`. Errors
     /// ([`Error::BadDocument`] naming the field): a parameter the rig refuses, keyforms
     /// that are not one per key, a pose index out of range, a corrective the rig refuses.
-    pub(crate) fn new(d: &Document, mesh: &Mesh, glue: &[GlueRow], channels: &Channels) -> Result<Posed> {
+    pub(crate) fn new(
+        d: &Document,
+        mesh: &Mesh,
+        glue: &[GlueRow],
+        channels: &Channels,
+        springs: Springs,
+    ) -> Result<Posed> {
         let poses = d.poses.as_deref().unwrap_or(&[]);
         let n = mesh.vertices().len();
         let pose = |k: u32, field: &str| -> Result<Vec<[f64; 2]>> {
@@ -104,7 +111,7 @@ impl Posed {
         }
         let tick = super::baked::tick(d)?;
         let ids: Vec<String> = parameters.iter().map(|p| p.id.clone()).collect();
-        let swings = swings(d, &ids, tick)?;
+        let swings = swings(d, &ids, tick, springs)?;
         let end = d.duration.unwrap_or(channels.end);
         let period = if d.looping.unwrap_or(false) { d.duration.unwrap_or(end) } else { 0.0 };
         if !swings.is_empty() {
@@ -210,22 +217,17 @@ impl Posed {
     }
 }
 
-/// An error for a document whose channels animate both pins and poses.
-pub(crate) fn mixed_channels() -> Error {
-    let reason = format!(
-        "animate both pins and {}: a document plays pins through its method, or poses by a blend",
-        Quoted("parameters or weights")
-    );
-    fault(DocumentFault::Structure, "channels".into(), reason)
-}
-
 /// The springs on parameters among `d.dynamics` (kind `"parameter"`), for parameters `ids`.
 /// Errors name the spring: a kind other than `"parameter"` (pins springs need pins), an
-/// unknown parameter, fields of the other kind, settings [`ParameterSpring::new`] refuses.
-fn swings(d: &Document, ids: &[String], tick: Tick) -> Result<Vec<Swing>> {
+/// unknown parameter, fields of the other kind (a spring on pins is left to the pins'
+/// engine with [`Springs::Mixed`]), settings [`ParameterSpring::new`] refuses.
+fn swings(d: &Document, ids: &[String], tick: Tick, which: Springs) -> Result<Vec<Swing>> {
     let parameters = d.parameters.as_deref().unwrap_or(&[]);
     let mut swings = Vec::new();
     for (i, s) in d.dynamics.iter().flatten().enumerate() {
+        if which == Springs::Mixed && s.kind == "pins" {
+            continue;
+        }
         let bad = |field: &str, reason: String| {
             fault(DocumentFault::Structure, format!("dynamics[{i}].{field}"), reason)
         };

@@ -1,7 +1,9 @@
 //! A document's poses blended by weights: along its weight track, or by its keyed
 //! `weights[k]` channels (issue 25).
 
-use super::{check_times, check_values, fault, fault_at, Document, DocumentFault, KeyTrack, WeightsJson};
+use super::{
+    check_times, check_values, fault, fault_at, lerp, segment, Document, DocumentFault, KeyTrack, WeightsJson,
+};
 use crate::blend::{BlendOptions, Blender, Flipped, PoseOptions, Reference};
 use crate::deform::GlueRow;
 use crate::error::{Quoted, Result};
@@ -17,6 +19,30 @@ pub(super) struct Blended {
     /// Keyed weights (`weights[k]` channels; an unkeyed pose weighs 0), in place of the
     /// weight track.
     pub(super) keyed: Option<Vec<Option<KeyTrack>>>,
+}
+
+impl Blended {
+    /// The blend at `t` into `out`: the keyed weights' values at `t` (an unkeyed pose
+    /// weighs 0), else the weight track's, linear between its samples. Allocates nothing.
+    pub(super) fn positions_into(&mut self, t: f64, out: &mut [[f64; 2]]) -> Result<()> {
+        if let Some(keyed) = &self.keyed {
+            let mut value = [0.0];
+            for (w, track) in self.weights.iter_mut().zip(keyed) {
+                *w = match track {
+                    Some(track) => track.value_into(t, &mut value).map(|_| value[0])?,
+                    None => 0.0,
+                };
+            }
+        } else {
+            let (k, s) = segment(&self.times, t);
+            let p = self.weights.len();
+            for (i, w) in self.weights.iter_mut().enumerate() {
+                let a = self.values[k * p + i];
+                *w = if s == 0.0 { a } else { lerp(a, self.values[(k + 1) * p + i], s) };
+            }
+        }
+        self.blender.blend_into(&self.weights, out)
+    }
 }
 
 /// The weight track's playback: the poses added to a blender.

@@ -134,24 +134,53 @@ pub(crate) fn triangle_depths(
     locate: &dyn Fn([f64; 2]) -> Option<Location>,
     overlap: &[Overlap],
 ) -> Result<Vec<f32>> {
+    let members = overlap_members(mesh, graph, locate, overlap)?;
+    let depths: Vec<f64> = overlap.iter().map(|o| o.depth).collect();
+    let mut sums = vec![0.0; mesh.triangles().len()];
+    Ok(sum_depths(&members, &depths, &mut sums).map(|x| x as f32).collect())
+}
+
+/// The triangles in each overlap region, in order: those whose centroid lies within its
+/// extent along the mesh. Errors: too many regions, a region off the shape or of a depth
+/// beyond [`MAX_DEPTH`].
+pub(crate) fn overlap_members(
+    mesh: &Mesh,
+    graph: &Graph,
+    locate: &dyn Fn([f64; 2]) -> Option<Location>,
+    overlap: &[Overlap],
+) -> Result<Vec<Vec<u32>>> {
     check_count(overlap.len())?;
-    let mut depth = vec![0.0f64; mesh.triangles().len()];
     let locations: Vec<Location> = overlap
         .iter()
         .enumerate()
         .map(|(k, o)| locate_region(locate, "overlap", k, o.at, ("depth", o.depth, MAX_DEPTH), o.extent))
         .collect::<Result<_>>()?;
+    let mut members = Vec::with_capacity(overlap.len());
     for (o, l) in overlap.iter().zip(&locations) {
         let d = graph.distances(mesh, l, o.extent);
-        for (x, tri) in depth.iter_mut().zip(mesh.triangles()) {
-            // A triangle is in the region when its centroid is, along the mesh.
-            let centre = tri.iter().map(|&v| d[v as usize]).sum::<f64>() / 3.0;
-            if centre <= o.extent {
-                *x += o.depth;
-            }
+        // A triangle is in the region when its centroid is, along the mesh.
+        let inside = |tri: &[u32; 3]| tri.iter().map(|&v| d[v as usize]).sum::<f64>() / 3.0 <= o.extent;
+        members.push(
+            (0..mesh.triangles().len() as u32).filter(|&t| inside(&mesh.triangles()[t as usize])).collect(),
+        );
+    }
+    Ok(members)
+}
+
+/// Each triangle's summed depth into `sums` (one per triangle), region by region in order:
+/// region `j`'s `depths[j]` added to each of its `members[j]`. Allocates nothing.
+pub(crate) fn sum_depths<'a>(
+    members: &[Vec<u32>],
+    depths: &[f64],
+    sums: &'a mut [f64],
+) -> impl Iterator<Item = f64> + 'a {
+    sums.fill(0.0);
+    for (inside, &depth) in members.iter().zip(depths) {
+        for &t in inside {
+            sums[t as usize] += depth;
         }
     }
-    Ok(depth.into_iter().map(|x| x as f32).collect())
+    sums.iter().copied()
 }
 
 /// Checks a number of regions against [`MAX_REGIONS`].

@@ -429,7 +429,9 @@ impl Rig {
     }
 
     /// The pose at the current values into `out` (one position per vertex): one
-    /// [`Blender::blend_into`] of the keyforms with [`Rig::weights_into`]'s weights.
+    /// [`Blender::blend_into`] of the keyforms with [`Rig::weights_into`]'s weights, or,
+    /// when every keyform weighs 0 (every parameter at a key whose keyform is the rest,
+    /// such as its default), the rest itself, bit for bit and without a solve.
     /// Allocates and factorises nothing.
     ///
     /// Errors: [`Error::CountMismatch`] for an `out` that is not one per vertex.
@@ -441,6 +443,10 @@ impl Rig {
         fill_weights(&self.axes, &self.correctives, self.key_slots, &mut self.slots);
         for (w, &s) in self.pose_weights.iter_mut().zip(&self.pose_slots) {
             *w = self.slots[s];
+        }
+        if self.pose_weights.iter().all(|&w| w == 0.0) {
+            out.copy_from_slice(self.mesh().vertices());
+            return Ok(());
         }
         self.blender.blend_into(&self.pose_weights, out)
     }

@@ -240,6 +240,10 @@ impl JsTrack {
 pub struct JsPlayer {
     player: animation::Player,
     out: Vec<[f64; 2]>,
+    /// The triangles' depths of the frame and of the frame before (`triangleDepthInto`),
+    /// the latter `None` before the first call.
+    depths: Vec<f32>,
+    previous: Option<Vec<f32>>,
     /// The document as loaded, as JSON text (what `toJSON` parses again: the numbers as
     /// given, bit for bit, with no serialiser in the module).
     text: js_sys::JsString,
@@ -260,7 +264,8 @@ impl JsPlayer {
         let text = json_text(document)?;
         let player = animation::Player::new(Document::from_json(&text).map_err(Error::from)?)?;
         let out = vec![[0.0; 2]; player.mesh().vertices().len()];
-        Ok(JsPlayer { player, out, text: text.into() })
+        let depths = player.triangle_depths().to_vec();
+        Ok(JsPlayer { player, out, depths, previous: None, text: text.into() })
     }
 
     /// The positions at time `t` (seconds; with `loop`, `t` modulo `duration`) as a new
@@ -397,6 +402,44 @@ impl JsPlayer {
     #[wasm_bindgen(getter, js_name = triangleDepth)]
     pub fn triangle_depth(&self) -> Float32Array {
         Float32Array::from(self.player.triangle_depths())
+    }
+
+    /// Whether a channel keys an overlap region's depth (`"overlap[j].depth"`): then the
+    /// drawing order changes with time, and `triangleDepthInto(t, out)` gives it.
+    #[wasm_bindgen(getter, js_name = depthKeyed)]
+    pub fn depth_keyed(&self) -> bool {
+        self.player.depths_keyed()
+    }
+
+    /// Each triangle's depth at time `t` (seconds, looped as the positions are) into `out`
+    /// (a `Float32Array` of one per triangle), allocating nothing: keyed regions' depths
+    /// at `t` (held between keys unless a key eases), the others as the document gives
+    /// them. Returns whether they differ from what the previous call wrote (so that a
+    /// renderer re-sorts only then; the first call returns `true`). Throws `bad-type`,
+    /// `bad-length`, `bad-time`.
+    #[wasm_bindgen(js_name = triangleDepthInto)]
+    pub fn triangle_depth_into(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float32Array")] out: JsValue,
+    ) -> Result<bool, Thrown> {
+        let t = t.as_f64().ok_or_else(|| bad_type("t", "a number", &t))?;
+        let array = super::typed::<Float32Array>("out", &out)?;
+        let expected = self.depths.len();
+        if array.length() as usize != expected {
+            let got = array.length() as usize;
+            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
+        }
+        if !t.is_finite() {
+            return Err(Error::BadTime { time: t, reason: "is not finite" }.into());
+        }
+        let first = self.previous.is_none();
+        // The buffer is made on the first call, then the two swap places every call.
+        let next = self.previous.get_or_insert_with(|| vec![0.0; expected]);
+        self.player.triangle_depths_into(t, next)?;
+        std::mem::swap(next, &mut self.depths);
+        array.copy_from(&self.depths);
+        Ok(first || *next != self.depths)
     }
 
     /// The document's picture (`{ url, width?, height? }`), or `undefined`.
