@@ -148,11 +148,19 @@ export function addMotion(add, lib) {
     ...base(g3), poses: [{ positions: turned(g3.vertices, 0.5, 1.5, 1.5) }, { positions: turned(g3.vertices, 0, 0, 0, 0.8) }],
     channels: [{ target: "weights[0]", keys: [{ t: 0, v: 0 }, { t: 1, v: 1, interp: "hold" }, { t: 2, v: 0.5 }] }, { target: "weights[1]", keys: [{ t: 0.5, v: 1.2 }] }],
   };
+  // Pins and parameters keyed together (the pins' solve carries the pose), and a keyed depth.
+  const composedDoc = {
+    ...parameterDoc,
+    pins: { points: [0.5, 0.5, 2.5, 0.5, 1.5, 2.5] }, puppet: { method: "two-step" },
+    overlap: [{ at: [0.5, 0.5], depth: 1, extent: 1 }],
+    channels: [...parameterDoc.channels, { target: "pins[2].target", keys: [{ t: 0, v: [1.5, 2.5] }, { t: 1, v: [2, 2.8], interp: "bezier", ease: "ease" }] },
+      { target: "overlap[0].depth", keys: [{ t: 0, v: 1 }, { t: 1, v: -1 }] }],
+  };
   return {
     keyData,
     rigRest: rigA.meta.rest,
     docs: [["parameterDoc", parameterDoc, true], ["springDoc", springDoc, true], ["springOnceDoc", { ...springDoc, loop: false, duration: undefined, tick: undefined }, true],
-      ["weightChannelDoc", weightChannelDoc, false]],
+      ["weightChannelDoc", weightChannelDoc, false], ["composedDoc", composedDoc, true]],
   };
 }
 

@@ -114,12 +114,16 @@ export function keysRoundTrip(k, lib, options = KEYTRACK_OPTIONS.get(k) ?? {}) {
 
 /** The key `given` (JSON) as toJSON writes it: a one-number value as a number, `interp`
  *  "linear" left out, "bezier" written with a curve. */
-function normalKey(given, dims) {
+function normalKey(given, dims, byDefault = "linear") {
   if (!readable(given)) return given;
   const o = { ...given };
   if (dims === 1 && Array.isArray(o.v) && o.v.length === 1) o.v = o.v[0];
-  if (o.interp === "linear" || o.interp === null) delete o.interp;
+  if (o.interp === null) delete o.interp;
   if (o.ease !== undefined && o.ease !== null && o.interp === undefined) o.interp = "bezier";
+  // A key without interp takes the track's default; a track that holds by default writes
+  // every key's interpolation, one whose default is linear leaves linear out.
+  if (o.interp === undefined) o.interp = byDefault;
+  if (byDefault === "linear" && o.interp === "linear") delete o.interp;
   return o;
 }
 
@@ -132,7 +136,7 @@ export function keysRead(k, [keys, o], lib) {
   if (readable(o) && typeof o.dims === "number" && k.dims !== o.dims) return `fromJSON(…, { dims: ${o.dims} }) has dims ${k.dims}`;
   if (Array.isArray(data) && readable(data) && data.length <= 1000) {
     if (k.length !== data.length) return `fromJSON of ${data.length} keys has ${k.length}`;
-    const d = diffData(data.map((x) => normalKey(x, k.dims)), k.toJSON(), "keys");
+    const d = diffData(data.map((x) => normalKey(x, k.dims, options?.interp === "hold" ? "hold" : "linear")), k.toJSON(), "keys");
     if (d) return d;
   }
   return k.length > 1000 ? null : keysRoundTrip(k, lib, options);
