@@ -9,11 +9,12 @@
 // solve): four pins hold the torso, an advanced pin with a radius holds the head rigid, and
 // an advanced pin holds the ear's tip.
 //
-//   * `headTurn` (keys −1, 0, 1): the head and the ear turned by ∓HEAD_DEGREES about the
-//     neck (the head pin and the ear's tip turned about NECK; the neck bends between the
-//     head and the collar).
-//   * `earSwing` (keys −1, 0, 1): the head at rest and the ear's tip swung by ∓EAR_DEGREES
-//     about the ear's root, its tip turned a little further, so that the ear bends.
+//   * `headTurn` (keys −1, 0, 1): the head and the ear turned by −HEAD_DEGREES, 0 and
+//     +HEAD_DEGREES about the neck (the head pin and the ear's tip turned about NECK; the
+//     neck bends between the head and the collar).
+//   * `earSwing` (keys −1, 0, 1): the head at rest and the ear's tip swung by −EAR_DEGREES,
+//     0 and +EAR_DEGREES about the ear's root, its tip turned EAR_CURL times that, so that
+//     the ear bends.
 //
 // Positive values turn clockwise on screen (the document's angles are counter-clockwise in
 // y-down canvas pixels). One channel keys `headTurn` with eased keys over a looping clip of
