@@ -1,9 +1,12 @@
 // Writes assets/character.psd, the demo's layered sample character (issue 24), drawn
-// here procedurally so that the project owns every pixel: a torso, two legs, a head and an
-// arm that lies over the torso and reaches out to the right, five layers on a 320 × 400
-// canvas, bottom first. Each layer is anti-aliased shapes with a dark outline (signed
-// distances, 4 × 4 samples a pixel), written by ag-psd's writer with its rectangle cut to
-// its opaque pixels.
+// here procedurally so that the project owns every pixel: a torso, two legs, a head, an
+// arm that lies over the torso and reaches out to the right, and a long rabbit-like ear
+// that hangs from the top of the head on the left (issue 25: it swings when the head
+// turns), six layers on a 320 × 400 canvas, bottom first. The ear is the top layer and
+// overlaps only the hair at its base, so that automatic glue holds it to the head there
+// and it pivots about its root. Each layer is anti-aliased shapes with a dark outline
+// (signed distances, 4 × 4 samples a pixel), written by ag-psd's writer with its rectangle
+// cut to its opaque pixels.
 //
 //   node scripts/make-sample-character.mjs
 //
@@ -26,7 +29,27 @@ const roundedBox = (l, t, r, b, radius) => (x, y) => {
   const qx = Math.abs(x - cx) - ((r - l) / 2 - radius), qy = Math.abs(y - cy) - ((b - t) / 2 - radius);
   return Math.hypot(Math.max(qx, 0), Math.max(qy, 0)) + Math.min(Math.max(qx, qy), 0) - radius;
 };
+/** A rounded cone: the capsule from (ax, ay), radius ra, to (bx, by), radius rb. */
+const roundCone = (ax, ay, ra, bx, by, rb) => {
+  const len = Math.hypot(bx - ax, by - ay);
+  const [ux, uy] = [(bx - ax) / len, (by - ay) / len]; // along the axis
+  const b = (ra - rb) / len, a = Math.sqrt(1 - b * b);
+  return (x, y) => {
+    const along = (x - ax) * ux + (y - ay) * uy;
+    const across = Math.abs((x - ax) * -uy + (y - ay) * ux);
+    const k = -b * across + a * along;
+    if (k < 0) return Math.hypot(across, along) - ra;
+    if (k > a * len) return Math.hypot(across, along - len) - rb;
+    return a * across + b * along - ra;
+  };
+};
 const union = (...fs) => (x, y) => Math.min(...fs.map((f) => f(x, y)));
+/** The union of two shapes with the seam rounded over about `k` px (polynomial smooth minimum). */
+const smoothUnion = (f, g, k) => (x, y) => {
+  const [a, b] = [f(x, y), g(x, y)];
+  const h = Math.max(0, Math.min(1, 0.5 + (0.5 * (b - a)) / k));
+  return b + (a - b) * h - k * h * (1 - h);
+};
 
 /** A shape: its distance, fill and outline colours; later shapes of a layer paint over. */
 const shape = (distance, fill, outline = fill.map((c) => Math.round(c * 0.55))) => ({ distance, fill, outline });
@@ -72,6 +95,15 @@ const LAYERS = [
       shape(capsule(140, 160, 272, 160, 14), [62, 112, 204]),
       shape(roundedBox(262, 144, 278, 176, 4), [236, 236, 240]), // the cuff
       shape(circle(292, 160, 17), [240, 200, 162]), // the hand
+    ],
+  },
+  {
+    // A lop ear: narrow where it leaves the hair, widest halfway, a rounded tip at the
+    // shoulder's height, well clear of the face, the torso and the arm.
+    name: "ear",
+    shapes: [
+      shape(smoothUnion(roundCone(129, 28, 7, 103, 68, 13), roundCone(103, 68, 13, 90, 114, 10), 24), [226, 208, 188]),
+      shape(smoothUnion(roundCone(122, 44, 2, 104, 70, 7), roundCone(104, 70, 7, 95, 104, 4), 16), [238, 166, 170]), // the inside
     ],
   },
 ];

@@ -56,9 +56,9 @@ test("the sample character opens from its button, drawn part over part, with its
   const { page, errors } = await withSample(t);
   const s = await state(page);
   assert.equal(s.name, "sample character");
-  assert.deepEqual(s.parts, ["torso", "left leg", "right leg", "head", "arm"]);
+  assert.deepEqual(s.parts, ["torso", "left leg", "right leg", "head", "arm", "ear"]);
   assert.deepEqual(s.drawOrder, s.parts);
-  assert.equal(s.glue.length, 4, "automatic glue: every part but the torso at its root");
+  assert.equal(s.glue.length, 5, "automatic glue: every part but the torso at its root");
   assert.deepEqual(s.pins.map((p) => p.part), ["torso", "torso", "arm"]);
   assert.ok(await page.locator("#stage").isHidden(), "the picture's stage is hidden");
   assert.ok(await page.locator("#character-panel").isVisible(), "the parts panel is shown");
@@ -127,9 +127,9 @@ test("the draw-order panel sends the arm behind the torso: pixels and picks foll
   await page.locator("#show-glue").uncheck();
   const back = page.locator('#draw-order li[data-part="arm"] .part-back');
   for (let k = 0; k < 4; k++) await page.locator('#draw-order li[data-part="arm"] .part-back').click();
-  assert.deepEqual((await state(page)).drawOrder, ["arm", "torso", "left leg", "right leg", "head"]);
+  assert.deepEqual((await state(page)).drawOrder, ["arm", "torso", "left leg", "right leg", "head", "ear"]);
   assert.ok(await back.isDisabled(), "the bottom part cannot go further back");
-  assert.deepEqual(await page.locator("#draw-order li").evaluateAll((items) => items.map((li) => li.dataset.part)), ["arm", "torso", "left leg", "right leg", "head"]);
+  assert.deepEqual(await page.locator("#draw-order li").evaluateAll((items) => items.map((li) => li.dataset.part)), ["arm", "torso", "left leg", "right leg", "head", "ear"]);
   const shot = await capture(page);
   const overTorso = await toClient(page, 175, 160);
   assert.ok(isShirt(shot.at(overTorso.x, overTorso.y)), `the torso now covers the arm: ${shot.at(overTorso.x, overTorso.y)}`);
@@ -141,7 +141,7 @@ test("the draw-order panel sends the arm behind the torso: pixels and picks foll
   assert.equal((await state(page)).pins.at(-1).part, "torso");
   // And forward again.
   await page.locator('#draw-order li[data-part="arm"] .part-forward').click();
-  assert.deepEqual((await state(page)).drawOrder, ["torso", "arm", "left leg", "right leg", "head"]);
+  assert.deepEqual((await state(page)).drawOrder, ["torso", "arm", "left leg", "right leg", "head", "ear"]);
   const again = await capture(page);
   assert.ok(isSleeve(again.at(overTorso.x, overTorso.y)), "the arm is in front again");
   assert.deepEqual(errors, []);
