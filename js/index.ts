@@ -54,7 +54,7 @@ interface Wrapped {
 type Class = { name: string; prototype: object } & Record<string, unknown>;
 
 /** The glue's classes, each guarded below. */
-const CLASSES: Class[] = [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.Track] as unknown as Class[];
+const CLASSES: Class[] = [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.ParameterSpring, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.Track] as unknown as Class[];
 
 /** Whether `value` is an object of one of the glue's classes. Never throws: a Proxy whose
  *  `getPrototypeOf` trap throws is no bunraku object. */
@@ -330,7 +330,7 @@ function guardConstructor<C extends abstract new (...args: never[]) => unknown>(
 
 for (const cls of CLASSES) guardClass(cls);
 
-// Blender, Character, Dynamics, Easing, Mesh, Player, Puppet and Rig are the glue's classes, guarded in place (exported by
+// Blender, Character, Dynamics, Easing, Mesh, ParameterSpring, Player, Puppet and Rig are the glue's classes, guarded in place (exported by
 // `export *`). KeyTrack, Renderer and Track are made with `new`, which only a wrapper can guard.
 export const Renderer = guardConstructor(glue.Renderer);
 export type Renderer = glue.Renderer;

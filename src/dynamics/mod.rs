@@ -45,15 +45,21 @@
 //! (mixed with its own target by `mix`), and its rotation's angle likewise for bend and
 //! advanced pins. Nothing in a frame allocates: every buffer (the checkpoints included) is
 //! allocated at construction.
+//!
+//! Parameter springs ([`ParameterSpring`], Live2D's physics: a pin's motion swings a
+//! parameter's value) step on the same tick: a document's play them ([`crate::animation`]),
+//! and [`LiveSpring`] drives one live from a number per frame.
 
 mod anchor;
 pub mod checkpoints;
+mod live;
 mod parameter;
 mod secondary;
 pub mod spring;
 pub mod tick;
 
 pub use anchor::{fit, fit_indexed, Rigid};
+pub use live::LiveSpring;
 pub use parameter::{Axis, ParameterInput, ParameterSettings, ParameterSpring, ParameterState};
 pub use secondary::{
     SecondaryPin, SpringState, DEFAULT_ANGLE_LIMIT, DEFAULT_LIMIT_FRACTION, MAX_DYNAMICS, MAX_FORCE,

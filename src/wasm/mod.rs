@@ -43,6 +43,7 @@ mod puppet;
 mod render;
 mod rig;
 mod simulation;
+mod spring;
 
 pub use animation::{JsPlayer, JsTrack};
 pub use blend::JsBlender;
@@ -54,6 +55,7 @@ pub use mesh::JsMesh;
 pub use puppet::Puppet;
 pub use render::JsRenderer;
 pub use rig::JsRig;
+pub use spring::JsParameterSpring;
 
 use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
 use wasm_bindgen::prelude::wasm_bindgen;

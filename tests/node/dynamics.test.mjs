@@ -5,7 +5,7 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Dynamics, Puppet } from "bunraku";
+import { initSync, Dynamics, ParameterSpring, Puppet } from "bunraku";
 import { bar } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -129,4 +129,38 @@ test("bad settings and calls are coded errors naming the entry", () => {
   const unpinned = Puppet.register(...Object.values(bar(2, 2)).slice(0, 2));
   assert.equal(codeOf(() => Dynamics.create(unpinned, [])), "bad-option", "no pins yet");
   for (const x of [dyn, unpinned, puppet]) x.free();
+});
+
+test("a ParameterSpring swings a parameter from a pin's motion, the same at 30 and 60 fps, and refuses bad input", () => {
+  const settings = { min: -1, max: 1, frequency: 2, damping: 0.2, scale: 1 };
+  // A pin's x moves 0 → 3 over 1 s (linear), then stays.
+  const pinX = (t) => 3 * Math.min(t, 1);
+  const play = (fps) => {
+    const ear = ParameterSpring.create(settings);
+    const seen = [];
+    for (let k = 0; k <= 4 * fps; k++) seen.push(ear.valueAt(k / fps, pinX(k / fps)));
+    ear.free();
+    return seen;
+  };
+  const [a, b] = [play(30), play(60)];
+  a.forEach((v, k) => assert.ok(Math.abs(v - b[2 * k]) < 1e-12, `frame ${k}: ${v} against ${b[2 * k]}`));
+  assert.equal(a[0], 0, "starts at its default");
+  assert.ok(Math.min(...a) < -0.05, "the pin's motion swings it (against the motion: inertia)");
+  assert.ok(a.every((v) => v >= -1 && v <= 1), "within its range");
+  assert.ok(Math.abs(a.at(-1)) < Math.abs(Math.min(...a)) / 4, "and it settles");
+  const ear = ParameterSpring.create(settings, { tick: 60 });
+  assert.equal(ear.tick, 60);
+  ear.valueAt(1, 0);
+  assert.throws(() => ear.valueAt(0.5, 0), (e) => e.code === "bad-time");
+  assert.throws(() => ear.valueAt(2, NaN), (e) => e.code === "non-finite");
+  assert.throws(() => ear.valueAt("2", 0), (e) => e.code === "bad-type");
+  assert.equal(ear.valueAt(1, 0), 0, "a refused call changes nothing");
+  ear.reset();
+  assert.equal(ear.valueAt(0, 5), 0, "reset starts at rest again");
+  assert.throws(() => ParameterSpring.create({ min: 1, max: -1 }), (e) => e.code === "bad-option" && /max/.test(e.message));
+  assert.throws(() => ParameterSpring.create({ max: 1 }), (e) => e.code === "bad-option" && /min/.test(e.message));
+  assert.throws(() => ParameterSpring.create({ ...settings, frequency: 0 }), (e) => e.code === "bad-option");
+  assert.throws(() => ParameterSpring.create({ ...settings, colour: 1 }), (e) => e.code === "bad-option");
+  assert.throws(() => ParameterSpring.create(5), (e) => e.code === "bad-type");
+  ear.free();
 });
