@@ -59,8 +59,12 @@ const CLASSES: Class[] = [glue.Blender, glue.Character, glue.Dynamics, glue.Easi
 /** Whether `value` is an object of one of the glue's classes. Never throws: a Proxy whose
  *  `getPrototypeOf` trap throws is no bunraku object. */
 function isBunrakuObject(value: unknown): value is Wrapped {
+  // Fast answers first (every call checks its arguments): no primitive and no typed array
+  // is one, and neither walks a prototype chain or reaches a Proxy's traps.
+  if (value === null || typeof value !== "object" || ArrayBuffer.isView(value)) return false;
   try {
-    return CLASSES.some((c) => value instanceof (c as unknown as new () => unknown));
+    for (const c of CLASSES) if (value instanceof (c as unknown as new () => unknown)) return true;
+    return false;
   } catch {
     return false;
   }
