@@ -134,7 +134,9 @@ export function keysRead(k, [keys, o], lib) {
   const options = optionsOf(o);
   KEYTRACK_OPTIONS.set(k, options);
   if (readable(o) && typeof o.dims === "number" && k.dims !== o.dims) return `fromJSON(…, { dims: ${o.dims} }) has dims ${k.dims}`;
-  if (Array.isArray(data) && readable(data) && data.length <= 1000) {
+  // Hostile options (a getter) may have given any default interpolation: the keys' own
+  // interpolations are then not known here.
+  if (Array.isArray(data) && readable(data) && data.length <= 1000 && options !== null) {
     if (k.length !== data.length) return `fromJSON of ${data.length} keys has ${k.length}`;
     const d = diffData(data.map((x) => normalKey(x, k.dims, options?.interp === "hold" ? "hold" : "linear")), k.toJSON(), "keys");
     if (d) return d;
