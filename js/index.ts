@@ -58,12 +58,19 @@ const CLASSES: Class[] = [glue.Blender, glue.Character, glue.Dynamics, glue.Easi
 
 /** Whether `value` is an object of one of the glue's classes. Never throws: a Proxy whose
  *  `getPrototypeOf` trap throws is no bunraku object. */
+const PROTOTYPES: ReadonlySet<object> = new Set(CLASSES.map((c) => c.prototype as object));
+
 function isBunrakuObject(value: unknown): value is Wrapped {
   // Fast answers first (every call checks its arguments): no primitive and no typed array
   // is one, and neither walks a prototype chain or reaches a Proxy's traps.
   if (value === null || typeof value !== "object" || ArrayBuffer.isView(value)) return false;
+  // `instanceof` by hand: the prototype chain against the classes' prototypes (a set), which
+  // is 10–100 times faster than `instanceof` against each class once the guards have made
+  // the classes' constructors dictionaries.
   try {
-    for (const c of CLASSES) if (value instanceof (c as unknown as new () => unknown)) return true;
+    for (let p = Object.getPrototypeOf(value) as object | null; p !== null; p = Object.getPrototypeOf(p) as object | null) {
+      if (PROTOTYPES.has(p)) return true;
+    }
     return false;
   } catch {
     return false;
