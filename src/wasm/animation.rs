@@ -9,6 +9,7 @@ use wasm_bindgen::JsCast;
 
 use super::errors::{bad_option, bad_type, describe, number};
 use super::options::Fields as OptionFields;
+use super::positions::positions_out;
 use super::{flat, read_exact, typed, Thrown, TypedArray};
 use crate::animation::{self, Document, DocumentFault, Mode, Track, TrackJson, TrackOptions};
 use crate::{Error, PinKind, Rotation};
@@ -244,6 +245,8 @@ pub struct JsPlayer {
     /// the latter `None` before the first call.
     depths: Vec<f32>,
     previous: Option<Vec<f32>>,
+    /// `positionsInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
+    staging: Vec<f32>,
     /// The document as loaded, as JSON text (what `toJSON` parses again: the numbers as
     /// given, bit for bit, with no serialiser in the module).
     text: js_sys::JsString,
@@ -265,7 +268,7 @@ impl JsPlayer {
         let player = animation::Player::new(Document::from_json(&text).map_err(Error::from)?)?;
         let out = vec![[0.0; 2]; player.mesh().vertices().len()];
         let depths = player.triangle_depths().to_vec();
-        Ok(JsPlayer { player, out, depths, previous: None, text: text.into() })
+        Ok(JsPlayer { player, out, depths, previous: None, staging: Vec::new(), text: text.into() })
     }
 
     /// The positions at time `t` (seconds; with `loop`, `t` modulo `duration`) as a new
@@ -279,18 +282,19 @@ impl JsPlayer {
         Ok(flat(&self.out))
     }
 
-    /// Like `positionsAt`, but writes into `out` (a `Float64Array` of `2 * vertexCount`)
-    /// and allocates nothing: the call for every frame. Throws `bad-type`, `bad-length`,
-    /// `bad-time`; the player is then as it was.
+    /// Like `positionsAt`, but writes into `out` and allocates nothing: the call for every
+    /// frame. `out` is a `Float64Array` of `2 * vertexCount`, or a `Float32Array` of
+    /// `2 * vertexCount` (xy) or `3 * vertexCount` (xyz, z = 0). Throws `bad-type`,
+    /// `bad-length`, `bad-time`; the player is then as it was.
     #[wasm_bindgen(js_name = positionsInto)]
     pub fn positions_into(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "number")] t: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | Float32Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = super::output(&out, 2 * self.out.len())?;
+        let out = positions_out(&out, self.out.len())?;
         self.solve(&t)?;
-        out.copy_from(self.out.as_flattened());
+        out.write(self.out.as_flattened(), &mut self.staging);
         Ok(())
     }
 

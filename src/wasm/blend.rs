@@ -7,6 +7,7 @@ use wasm_bindgen::prelude::*;
 use super::errors::{bad_pose_index, bad_type};
 use super::mesh::JsMesh;
 use super::options::{blend_options, pose_options};
+use super::positions::positions_out;
 use super::simulation::{mesh_embedding, simulation_option};
 use super::{items, typed, Thrown, TypedArray};
 use crate::blend::Blender;
@@ -42,6 +43,8 @@ pub struct JsBlender {
     weights: Vec<f64>,
     /// The positions of the last blend.
     out: Vec<[f64; 2]>,
+    /// `blendInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
+    staging: Vec<f32>,
 }
 
 #[wasm_bindgen(js_class = Blender)]
@@ -176,8 +179,9 @@ impl JsBlender {
         Ok(Float64Array::from(self.out.as_flattened()))
     }
 
-    /// Like `blend`, but writes the positions into `out` (a `Float64Array` of length
-    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame. Per
+    /// Like `blend`, but writes the positions into `out` and allocates nothing: the call
+    /// for every animation frame. `out` is a `Float64Array` of `2 * vertexCount`, or a
+    /// `Float32Array` of `2 * vertexCount` (xy) or `3 * vertexCount` (xyz, z = 0). Per
     /// call: Blend_C for every triangle (equation 3), one back-substitution with the factor
     /// made in `register` (`E_T`, equation 4), plus one per `iterations` step; nothing is
     /// factorised.
@@ -185,15 +189,11 @@ impl JsBlender {
     pub fn blend_into(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] weights: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | Float32Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = typed::<Float64Array>("out", &out)?;
-        let (got, expected) = (out.len(), 2 * self.vertex_count());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
-        }
+        let out = positions_out(&out, self.vertex_count())?;
         self.solve(&weights)?;
-        out.copy_from(self.out.as_flattened());
+        out.write(self.out.as_flattened(), &mut self.staging);
         Ok(())
     }
 
@@ -223,7 +223,8 @@ impl JsBlender {
         let n = blender.mesh().vertices().len();
         let rendered = embedding.as_ref().map_or(n, |(e, _)| e.rendered().vertices().len());
         let simulated = if embedding.is_some() { vec![[0.0; 2]; n] } else { Vec::new() };
-        Ok(JsBlender { blender, embedding, simulated, weights: Vec::new(), out: vec![[0.0; 2]; rendered] })
+        let out = vec![[0.0; 2]; rendered];
+        Ok(JsBlender { blender, embedding, simulated, weights: Vec::new(), out, staging: Vec::new() })
     }
 
     /// A blender on `embedding`'s simulation mesh.

@@ -39,6 +39,7 @@ mod keys;
 mod mesh;
 mod options;
 mod pins;
+mod positions;
 mod puppet;
 mod render;
 mod rig;

@@ -9,8 +9,9 @@ use super::flatten::quality_object;
 use super::mesh::JsMesh;
 use super::options::{register_options, weights_name};
 use super::pins::{kind_name, overlap, pins, read_rotations, starch, PinOptions};
+use super::positions::positions_out;
 use super::simulation::{mesh_embedding, simulation_option};
-use super::{flat, items, read_exact, typed, Thrown, TypedArray};
+use super::{flat, items, read_exact, typed, Thrown};
 use crate::deform::pins::with_default_radii;
 use crate::deform::{Options, Starch};
 use crate::simulation::{Embedding, PlacedPins};
@@ -48,6 +49,8 @@ pub struct Puppet {
     /// The layered character this puppet poses (`character.puppet()`), whose parts its
     /// pins go on.
     character: Option<SharedCharacter>,
+    /// `updateInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
+    staging: Vec<f32>,
 }
 
 #[wasm_bindgen]
@@ -328,22 +331,23 @@ impl Puppet {
         Ok(Float64Array::from(self.solve(&targets, &rotations)?))
     }
 
-    /// Like `update`, but writes the positions into `out` (a `Float64Array` of length
-    /// `2 * vertexCount`) and allocates nothing: the call for every animation frame.
+    /// Like `update`, but writes the positions into `out` and allocates nothing: the call
+    /// for every animation frame. `out` is a `Float64Array` of `2 * vertexCount`, or a
+    /// `Float32Array` (what WebGL, Pixi and three.js upload) of `2 * vertexCount` (xy) or
+    /// `3 * vertexCount` (xyz, z = 0), written without a conversion pass of yours (the first
+    /// `Float32Array` call makes the puppet's staging buffer once). Checked before any work.
     #[wasm_bindgen(js_name = updateInto)]
     pub fn update_into(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | Float32Array")] out: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "Float64Array")] rotations: JsValue,
     ) -> Result<(), Thrown> {
-        let out = typed::<Float64Array>("out", &out)?;
-        let (got, expected) = (out.len(), 2 * self.vertex_count());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "output length", got, expected }.into());
-        }
-        out.copy_from(self.solve(&targets, &rotations)?);
-        Ok(())
+        let out = positions_out(&out, self.vertex_count())?;
+        let mut staging = std::mem::take(&mut self.staging);
+        let solved = self.solve(&targets, &rotations).map(|flat| out.write(flat, &mut staging));
+        self.staging = staging;
+        solved
     }
 
     /// Reads the targets and rotations into the puppet's own buffers and solves; before any
@@ -565,6 +569,7 @@ impl Puppet {
             starch: Vec::new(),
             depths: vec![0.0; triangles],
             character,
+            staging: Vec::new(),
         })
     }
 }

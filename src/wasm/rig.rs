@@ -6,6 +6,7 @@ use wasm_bindgen::prelude::*;
 
 use super::errors::{bad_type, Thrown};
 use super::options::Fields;
+use super::positions::positions_out;
 use super::{items, set, typed, TypedArray};
 use crate::blend::{BlendOptions, Flipped};
 use crate::rig::{Parameter, Rig, RigOptions};
@@ -58,6 +59,8 @@ pub struct JsRig {
     /// The positions of the last pose, and a buffer of positions read from JS.
     out: Vec<[f64; 2]>,
     weights: Vec<f64>,
+    /// `poseInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
+    staging: Vec<f32>,
 }
 
 #[wasm_bindgen(js_class = Rig)]
@@ -81,7 +84,7 @@ impl JsRig {
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
         let rig = Rig::register(Mesh::new(vertices, triangles)?, o)?;
         let n = rig.mesh().vertices().len();
-        Ok(JsRig { rig, out: vec![[0.0; 2]; n], weights: Vec::new() })
+        Ok(JsRig { rig, out: vec![[0.0; 2]; n], weights: Vec::new(), staging: Vec::new() })
     }
 
     /// Adds a parameter (`ParameterDefinition`) at its default value, with no keyform yet
@@ -225,17 +228,18 @@ impl JsRig {
         Ok(())
     }
 
-    /// The pose the values give, into `out` (a `Float64Array` of `2 · vertexCount`): one
-    /// Kaji blend (one back-substitution), nothing allocated or factorised: the call for
-    /// every frame. Throws `bad-type`, `bad-length`.
+    /// The pose the values give, into `out` (a `Float64Array` of `2 · vertexCount`, or a
+    /// `Float32Array` of `2 · vertexCount` or `3 · vertexCount`, z = 0): one Kaji blend
+    /// (one back-substitution), nothing allocated or factorised: the call for every frame.
+    /// Throws `bad-type`, `bad-length`.
     #[wasm_bindgen(js_name = poseInto)]
     pub fn pose_into(
         &mut self,
-        #[wasm_bindgen(unchecked_param_type = "Float64Array")] out: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array | Float32Array")] out: JsValue,
     ) -> Result<(), Thrown> {
-        let out = super::output(&out, 2 * self.out.len())?;
+        let out = positions_out(&out, self.out.len())?;
         self.rig.pose_into(&mut self.out)?;
-        out.copy_from(self.out.as_flattened());
+        out.write(self.out.as_flattened(), &mut self.staging);
         Ok(())
     }
 

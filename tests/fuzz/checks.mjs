@@ -321,7 +321,9 @@ export function finiteArray(a, label) {
 export function finiteResult(a) {
   if (!ArrayBuffer.isView(a)) return null;
   // Read through the intrinsic length: the array may be a hostile one with its own getter.
-  const view = new Float64Array(a.buffer, a.byteOffset, a.byteLength / 8);
+  // A Float32Array (positions in the GPU's type) is read as one.
+  const f32 = Object.prototype.toString.call(a) === "[object Float32Array]";
+  const view = f32 ? new Float32Array(a.buffer, a.byteOffset, a.byteLength / 4) : new Float64Array(a.buffer, a.byteOffset, a.byteLength / 8);
   const i = view.findIndex((x) => !Number.isFinite(x));
   return i < 0 ? null : `non-finite result: item ${i} is ${show(view[i])}`;
 }

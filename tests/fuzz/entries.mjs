@@ -51,6 +51,10 @@ const REGION = (amountKey) => ({
   of: { type: "opts", keys: { at: { type: "array", of: num(), len: 2 }, [amountKey]: num(), extent: num({ above: 0 }) }, required: ["at", amountKey, "extent"] },
 });
 const SIZE = int({ min: 1, max: 16384 });
+/** A frame's positions (issue 26 §6): a Float64Array of 2 per vertex, or a Float32Array of 2 or 3. */
+const OUT = or({ type: "f64", len: (t) => 2 * t.vertexCount }, { type: "f32", len: (t) => 2 * t.vertexCount }, { type: "f32", len: (t) => 3 * t.vertexCount });
+/** A valid `OUT` for `t`: mostly a Float64Array, sometimes a Float32Array of xy or xyz. */
+const outFor = (g, t) => (g.rng.chance(0.7) ? new Float64Array(2 * t.vertexCount) : new Float32Array((g.rng.chance(0.5) ? 2 : 3) * t.vertexCount));
 
 // Characters (issue 24). A layer's rect is four whole numbers within ±2²⁰, not empty, its
 // rgba (r − l)(b − t)·4 bytes (`CC.layerProblem`); a clipping layer is refused. The declared
@@ -266,8 +270,8 @@ export function entries(lib) {
       valid: (g, t) => [targetsNear(g, t), g.rng.chance(0.4) ? rotations(g, t.handleCount) : undefined],
       call: (t, a) => t.update(...a), after: (_, __, { result }) => C.finiteResult(result) },
     { name: "Puppet.updateInto", on: "puppet", mutates: true,
-      params: [f64({ len: (t) => 2 * t.handleCount }), { type: "f64", len: (t) => 2 * t.vertexCount }, { ...f64({ len: (t) => 2 * t.handleCount }), optional: true }],
-      valid: (g, t) => [targetsNear(g, t), new Float64Array(2 * t.vertexCount), undefined],
+      params: [f64({ len: (t) => 2 * t.handleCount }), OUT, { ...f64({ len: (t) => 2 * t.handleCount }), optional: true }],
+      valid: (g, t) => [targetsNear(g, t), outFor(g, t), undefined],
       call: (t, a) => t.updateInto(...a), after: (_, [, out]) => C.finiteResult(out) },
     getter("puppet", ["componentCount", "converged", "glueGap", "handleCount", "handles", "kinds", "lag", "method", "pinPositions", "positions", "radius",
       "simulationPositions", "simulationTriangles", "simulationVertexCount", "triangleCount", "triangleDepth", "triangles", "vertexCount", "vertices", "weights"]),
@@ -288,8 +292,8 @@ export function entries(lib) {
       call: (t, a) => t.addPose(...a), after: (t, a, { result }) => C.poseStored(t, a, result) },
     { name: "Blender.blend", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 })],
       valid: (g, t) => [f64Of(Array.from({ length: t.poseCount }, () => round(g.rng.range(-0.5, 1.5))))], call: (t, a) => t.blend(...a), after: (_, __, { result }) => C.finiteResult(result) },
-    { name: "Blender.blendInto", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 }), { type: "f64", len: (t) => 2 * t.vertexCount }],
-      valid: (g, t) => [f64Of(Array.from({ length: t.poseCount }, () => round(g.rng.range(-0.5, 1.5)))), new Float64Array(2 * t.vertexCount)],
+    { name: "Blender.blendInto", on: "blender", params: [f64({ len: (t) => t.poseCount, max: 1e6, min: -1e6 }), OUT],
+      valid: (g, t) => [f64Of(Array.from({ length: t.poseCount }, () => round(g.rng.range(-0.5, 1.5)))), outFor(g, t)],
       call: (t, a) => t.blendInto(...a), after: (_, [, out]) => C.finiteResult(out) },
     { name: "Blender.flippedCount", on: "blender", params: [int({ min: 0, below: (t) => t.poseCount })], valid: (g, t) => [g.rng.int(Math.max(1, t.poseCount))], call: (t, a) => t.flippedCount(...a) },
     { name: "Blender.removePose", on: "blender", mutates: true, weight: 0.5, params: [int({ min: 0, below: (t) => t.poseCount })], valid: (g, t) => [g.rng.int(Math.max(1, t.poseCount))],
@@ -330,8 +334,8 @@ export function entries(lib) {
       call: (_, a) => Player.load(...a), after: (p, [doc]) => C.loaded(p, doc, () => Player.load(p.toJSON())) },
     { name: "Player.positionsAt", on: "player", params: [num()], valid: (g) => [round(g.rng.range(-1, 3))],
       call: (t, a) => t.positionsAt(...a), after: (_, __, { result }) => C.finiteResult(result) },
-    { name: "Player.positionsInto", on: "player", params: [num(), { type: "f64", len: (t) => 2 * t.vertexCount }],
-      valid: (g, t) => [round(g.rng.range(-1, 3)), new Float64Array(2 * t.vertexCount)], call: (t, a) => t.positionsInto(...a) },
+    { name: "Player.positionsInto", on: "player", params: [num(), OUT],
+      valid: (g, t) => [round(g.rng.range(-1, 3)), outFor(g, t)], call: (t, a) => t.positionsInto(...a) },
     { name: "Player.drawOrderAt", on: "player", params: [num()], valid: (g) => [round(g.rng.range(-1, 3))], call: (t, a) => t.drawOrderAt(...a),
       after: (t, [time], { result }) => C.drawOrderAt(t, time, result) },
     { name: "Player.toJSON", on: "player", params: [], valid: () => [], call: (t) => t.toJSON(), after: (_, __, { result }) => C.jsonClean(result) },
@@ -436,7 +440,7 @@ export function entries(lib) {
     { name: "Rig.reset", on: "rig", mutates: true, weight: 0.3, params: [], valid: () => [], call: (t) => t.reset(), after: (t) => MC.rigReset(t) },
     { name: "Rig.weightsInto", on: "rig", params: [{ type: "f64", len: (t) => t.weightCount }], valid: (g, t) => [new Float64Array(t.weightCount)],
       call: (t, a) => t.weightsInto(...a), after: (t, a) => MC.weightsFinite(t, a) },
-    { name: "Rig.poseInto", on: "rig", params: [{ type: "f64", len: (t) => 2 * t.vertexCount }], valid: (g, t) => [new Float64Array(2 * t.vertexCount)],
+    { name: "Rig.poseInto", on: "rig", params: [OUT], valid: (g, t) => [outFor(g, t)],
       call: (t, a) => t.poseInto(...a), after: (_, [out]) => C.finiteResult(out) },
     { name: "Rig.weightIndex", on: "rig", params: [{ type: "str" }, num()], valid: (g, t) => parameterKey(g, t), call: (t, a) => t.weightIndex(...a),
       after: (t, _, { result }) => MC.weightIndexIn(t, result) },

@@ -129,7 +129,7 @@ code("bad-type", () => {
   const { puppet, unchanged } = posed();
   throws(() => puppet.update([0, 0, 3, 3]), "bad-type", { argument: "targets", type: "Array" }, /^targets: expected a Float64Array, got Array$/);
   throws(() => puppet.update(), "bad-type", { argument: "targets", type: "undefined" }, /got undefined$/);
-  throws(() => puppet.updateInto(new Float64Array(4), new Float32Array(32)), "bad-type", { argument: "out", type: "Float32Array" });
+  throws(() => puppet.updateInto(new Float64Array(4), new Int16Array(32)), "bad-type", { argument: "out", type: "Int16Array" });
   throws(() => puppet.compile("0, 0"), "bad-type", { argument: "handles", type: "string" });
   throws(() => puppet.compileVertices([0, 15]), "bad-type", { argument: "vertices", type: "Array" }, /expected a Uint32Array/);
   unchanged();
