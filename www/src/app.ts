@@ -25,10 +25,11 @@ import { exportWithOverlays, rigFrame } from "./exporter.js";
 import { FrameLoop, type SolveStamp } from "./frames.js";
 import { Opening, type PinFractions, type Wording } from "./opening.js";
 import type { Overlay } from "./overlay.js";
+import { Parameters } from "./parameters.js";
 import type { Picture } from "./picture.js";
 import { Playback } from "./playback.js";
 import { Poses } from "./poses.js";
-import { toError, type Method, type OpenResult } from "./protocol.js";
+import { toError, type Method, type MotionState, type OpenResult } from "./protocol.js";
 import { Regions } from "./regions.js";
 import { showMesh, type PictureRenderer } from "./renderer.js";
 import { Rig } from "./rig.js";
@@ -68,6 +69,14 @@ export class App {
   onAnimationChange: () => void = () => {};
   /** Told when a picture opened at its full detail sets the detail (the slider shows it). */
   onDetailChange: (vertices: number) => void = () => {};
+  /** Told when the parameters, keys or swings change, or playback moves (the motion
+   *  panels redraw). */
+  onMotionChange: () => void = () => {};
+  /** The parameters of the picture on screen (parameters.ts). */
+  readonly parameters: Parameters;
+  /** Told when a new puppet is on screen with its motion (none for a picture, an opened
+   *  document's): the timeline and the swings take theirs. */
+  onMotionRestored: (state: MotionState | null) => void = () => {};
 
   private rig: Rig | null = null;
   /** Whether the worker holds `rig`'s generation (not after a crash, until it is rebuilt). */
@@ -130,7 +139,9 @@ export class App {
     this.board = new Board(context, { view: this.view, regions: this.regions, renderer: this.renderer, solver: this.solver, endPlayback });
     this.playback = new Playback(context, this.solver, changed);
     this.poseSet = new Poses(context, this.solver, endPlayback, changed);
-    this.documents = new Documents(context, { opening: this.opening, poses: this.poseSet, playback: this.playback, install, changed });
+    this.parameters = new Parameters(context, this.solver, endPlayback, () => this.onMotionChange());
+    const restoreMotion = (state: MotionState) => this.restoreMotion(state);
+    this.documents = new Documents(context, { opening: this.opening, poses: this.poseSet, playback: this.playback, install, changed, restoreMotion });
     this.status.renderer(this.renderer.name);
     this.status.pins(0);
   }
@@ -337,6 +348,12 @@ export class App {
 
   // --- internals ---
 
+  /** The motion of the puppet on screen: none, or an opened document's. */
+  private restoreMotion(state: MotionState | null): void {
+    this.parameters.replace(state);
+    this.onMotionRestored(state);
+  }
+
   /** Puts generation `opened` of `picture` on screen, in place of the puppet shown. */
   private install(picture: Picture, opened: OpenResult, wording: Wording): void {
     const rig = new Rig(picture, opened);
@@ -349,6 +366,7 @@ export class App {
     this.rig = rig;
     this.live = true;
     this.poseSet.replace([]);
+    this.restoreMotion(null);
     this.playback.reset();
     this.onAnimationChange();
     this.board.selected = null;
@@ -382,7 +400,7 @@ export class App {
    *  blends, playback frames, solves, flip counts. */
   private quiet(): boolean {
     const live = this.live && this.rig !== null;
-    return this.poseSet.idle() && this.playback.idle() && this.solver.idle(live);
+    return this.poseSet.idle() && this.parameters.idle() && this.playback.idle() && this.solver.idle(live);
   }
 
   private fit(): void {

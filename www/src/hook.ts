@@ -12,7 +12,7 @@ import type { FrameRecord } from "./frames.js";
 import type { Overlay } from "./overlay.js";
 import { anchorAt, follow } from "./locate.js";
 import { pictureFromURL } from "./picture.js";
-import type { Method, OverlapRegion, PinKind, StarchRegion } from "./protocol.js";
+import type { Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
 
 /** A pin as the tests see it: its target (x, y, what a drag moves) and where its material
  *  is drawn, in viewport CSS pixels; its kind and turn. */
@@ -73,6 +73,20 @@ export interface DemoHook {
   playsEnded(): number;
   /** The layered character (character.ts). */
   character: CharacterHook;
+  /** The parameters, timeline and swings of the picture on screen (issue 25). */
+  motion: MotionHook;
+}
+
+/** The motion tools as the tests see them. */
+export interface MotionHook {
+  /** The parameters (with which keys have keyforms) and their values on the page. */
+  parameters(): ParameterInfo[];
+  values(): Record<string, number>;
+  addParameter(spec: ParameterSpec): Promise<boolean>;
+  /** Makes the pose on screen parameter `id`'s keyform at `key`. */
+  setKeyform(id: string, key: number): Promise<boolean>;
+  /** Moves parameter `id`'s slider (as its input event does). */
+  setValue(id: string, value: number): void;
 }
 
 /** The layered character as the tests see it; points in viewport CSS pixels unless said. */
@@ -167,6 +181,13 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     playing: () => app.playing,
     playsEnded: () => app.playsEnded,
     character: characterHook(characters),
+    motion: {
+      parameters: () => app.parameters.list.map((p) => ({ ...p, keys: [...p.keys], keyforms: [...p.keyforms] })),
+      values: () => Object.fromEntries(app.parameters.list.map((p) => [p.id, app.parameters.value(p.id)])),
+      addParameter: (spec) => app.parameters.add(spec),
+      setKeyform: (id, key) => app.parameters.setKeyform(id, key),
+      setValue: (id, value) => app.parameters.setValue(id, value),
+    },
   };
 }
 

@@ -11,6 +11,7 @@ import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
+import { attachParameterPanel } from "./parameterpanel.js";
 import { METHODS, PIN_KINDS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
 import { Status } from "./status.js";
@@ -60,7 +61,7 @@ async function main(status: Status): Promise<void> {
       canvas: element("character-stage", HTMLCanvasElement),
       overlay: element("character-overlay", HTMLCanvasElement),
       // The picture's stage, and the poses and animation, which act on pictures only.
-      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement)],
+      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement), element("motion", HTMLElement)],
       panel: element("character-panel", HTMLElement),
       order: element("draw-order", HTMLOListElement),
       showGlue: element("show-glue", HTMLInputElement),
@@ -201,6 +202,24 @@ async function main(status: Status): Promise<void> {
   );
   theApp.onAnimationChange = () => refresh({ poseCount: theApp.poses.length, recording: theApp.recording, playing: theApp.playing, loop: theApp.loop });
   theApp.onAnimationChange();
+  const renderParameters = attachParameterPanel(
+    {
+      form: element("parameter-form", HTMLFormElement),
+      id: element("parameter-id", HTMLInputElement),
+      min: element("parameter-min", HTMLInputElement),
+      max: element("parameter-max", HTMLInputElement),
+      defaultValue: element("parameter-default", HTMLInputElement),
+      keys: element("parameter-keys", HTMLInputElement),
+      list: element("parameter-list", HTMLOListElement),
+      padX: element("pad-x", HTMLSelectElement),
+      padY: element("pad-y", HTMLSelectElement),
+      pad: element("parameter-pad", HTMLCanvasElement),
+      corrective: element("set-corrective", HTMLButtonElement),
+    },
+    theApp.parameters,
+  );
+  theApp.onMotionChange = () => renderParameters();
+  theApp.onMotionChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
   if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
