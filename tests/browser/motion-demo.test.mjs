@@ -108,3 +108,88 @@ test("a parameter: the form adds it, a key's button keys the pose on screen, its
   assert.equal((await motion(page, "parameters")).length, 1);
   assert.deepEqual(errors, []);
 });
+
+/** A page with parameter "wave" whose keyform at 1 is the left hand raised. */
+async function withWave(t) {
+  const opened = await openDemo(demo);
+  t.after(() => opened.context.close());
+  const { page } = opened;
+  await addParameter(page, "wave");
+  await raiseHand(page);
+  await page.locator('#parameter-list button[data-key="1"]').click();
+  await page.waitForFunction(() => window.bunrakuDemo.motion.parameters()[0].keyforms[2] === true);
+  await settled(page);
+  return opened;
+}
+
+/** Viewport point of time `t` on the timeline's strip, in row `row` of `rows`. */
+async function stripPoint(page, t, duration, row = 0, rows = 1) {
+  await page.locator("#timeline").scrollIntoViewIfNeeded();
+  const box = await page.locator("#timeline").boundingBox();
+  const { width, height } = await page.evaluate(() => ({ width: document.querySelector("#timeline").width, height: document.querySelector("#timeline").height }));
+  const y = 16 + (row + 0.5) * ((height - 16) / rows);
+  return { x: box.x + Math.max(0.5, (t / duration) * box.width), y: box.y + (y / height) * box.height, scale: box.width / width };
+}
+
+test("the timeline: keys with an easing preset play the eased value at mid time; keys move, change easing, take a custom curve and are deleted", { timeout: TIMEOUT }, async (t) => {
+  const { page, errors } = await withWave(t);
+  await motion(page, "setValue", "wave", 0);
+  await settled(page);
+  await page.locator("#timeline-ease").selectOption("ease-in");
+  await page.locator("#timeline-key").click();
+  await motion(page, "seek", 1);
+  await motion(page, "setValue", "wave", 1);
+  await settled(page);
+  await page.locator("#timeline-key").click();
+  await settled(page);
+  assert.deepEqual(await motion(page, "channels"), [
+    { target: "parameters.wave", keys: [{ t: 0, v: 0, interp: "bezier", ease: "ease-in" }, { t: 1, v: 1, interp: "bezier", ease: "ease-in" }] },
+  ]);
+
+  // Halfway, the value the easing gives (the same bits as the package in Node), and the
+  // pose the worker's player shows is the rig's pose at that value.
+  const eased = (preset) => Easing.parse(preset).at(0.5);
+  await motion(page, "seek", 0.5);
+  assert.equal((await motion(page, "values")).wave, eased("ease-in"));
+  assert.equal(await motion(page, "valueAt", "wave", 0.5), eased("ease-in"));
+  assert.notEqual(eased("ease-in"), 0.5, "ease-in is not linear halfway");
+  const played = await positions(page);
+  await motion(page, "setValue", "wave", eased("ease-in"));
+  await settled(page);
+  assert.ok(farthest(await positions(page), played) < 1e-9, `the played pose is the rig's at the eased value (off by ${farthest(await positions(page), played)})`);
+
+  // The first key (a click on its diamond) gets ease-out from the select.
+  const first = await stripPoint(page, 0, 2);
+  await page.mouse.click(first.x, first.y);
+  assert.deepEqual(await motion(page, "selectedKey"), { id: "wave", index: 0 });
+  await page.locator("#timeline-ease").selectOption("ease-out");
+  await motion(page, "seek", 0.5);
+  assert.equal((await motion(page, "values")).wave, eased("ease-out"));
+
+  // Custom: the curve editor starts from ease-out's handles; its second handle dragged
+  // past the right edge stays at x = 1, its y free.
+  await page.locator("#timeline-ease").selectOption("custom");
+  assert.deepEqual((await motion(page, "channels"))[0].keys[0].ease, [0, 0, 0.58, 1]);
+  await page.locator("#curve").scrollIntoViewIfNeeded();
+  const curve = await page.locator("#curve").boundingBox();
+  const handle = { x: curve.x + 0.58 * curve.width, y: curve.y + ((1.5 - 1) / 2) * curve.height };
+  await drag(page, handle, { x: curve.x + curve.width + 30, y: curve.y + ((1.5 - 1.25) / 2) * curve.height });
+  await settled(page);
+  const custom = (await motion(page, "channels"))[0].keys[0].ease;
+  assert.equal(custom[2], 1, "x clamped to 1");
+  assert.ok(Math.abs(custom[3] - 1.25) < 0.02, `y free (overshoot): ${custom[3]}`);
+  await motion(page, "seek", 0.5);
+  assert.equal((await motion(page, "values")).wave, Easing.cubicBezier(...custom).at(0.5));
+
+  // The second key dragged from 1 s to 1.5 s, then deleted.
+  const second = await stripPoint(page, 1, 2);
+  await drag(page, second, await stripPoint(page, 1.5, 2));
+  await settled(page);
+  const keys = (await motion(page, "channels"))[0].keys;
+  assert.equal(keys.length, 2);
+  assert.ok(Math.abs(keys[1].t - 1.5) < 0.02, `moved to ${keys[1].t}`);
+  assert.deepEqual(await motion(page, "selectedKey"), { id: "wave", index: 1 });
+  await page.locator("#timeline-delete").click();
+  assert.equal((await motion(page, "channels"))[0].keys.length, 1);
+  assert.deepEqual(errors, []);
+});

@@ -29,7 +29,7 @@ import { Parameters } from "./parameters.js";
 import type { Picture } from "./picture.js";
 import { Playback } from "./playback.js";
 import { Poses } from "./poses.js";
-import { toError, type Method, type MotionState, type OpenResult } from "./protocol.js";
+import { toError, type ChannelData, type Method, type MotionState, type OpenResult, type Swing } from "./protocol.js";
 import { Regions } from "./regions.js";
 import { showMesh, type PictureRenderer } from "./renderer.js";
 import { Rig } from "./rig.js";
@@ -77,6 +77,8 @@ export class App {
   /** Told when a new puppet is on screen with its motion (none for a picture, an opened
    *  document's): the timeline and the swings take theirs. */
   onMotionRestored: (state: MotionState | null) => void = () => {};
+  /** Told the time of every frame of playback shown. */
+  onPlayFrame: (t: number) => void = () => {};
 
   private rig: Rig | null = null;
   /** Whether the worker holds `rig`'s generation (not after a crash, until it is rebuilt). */
@@ -138,6 +140,7 @@ export class App {
     this.solver = new Solver(context, this.simulation, () => this.board.dragging);
     this.board = new Board(context, { view: this.view, regions: this.regions, renderer: this.renderer, solver: this.solver, endPlayback });
     this.playback = new Playback(context, this.solver, changed);
+    this.playback.onFrame = (t) => this.onPlayFrame(t);
     this.poseSet = new Poses(context, this.solver, endPlayback, changed);
     this.parameters = new Parameters(context, this.solver, endPlayback, () => this.onMotionChange());
     const restoreMotion = (state: MotionState) => this.restoreMotion(state);
@@ -324,6 +327,30 @@ export class App {
   /** Plays the recording (or the opened document) from its start; resolves when it ends. */
   play(): Promise<void> {
     return this.playback.play();
+  }
+
+  /** Plays the animation from `from` seconds; resolves when it ends. */
+  playFrom(from: number): Promise<void> {
+    return this.playback.play(from);
+  }
+
+  /** Shows the animation's frame at `t` seconds (a scrub). */
+  seek(t: number): Promise<void> {
+    return this.playback.play(0, t);
+  }
+
+  /** Gives the worker the timeline's channels and the swings (`tick`: the springs' rate,
+   *  Hz); a refused swing is shown with the library's error. Resolves to whether they
+   *  were taken. */
+  async setMotion(channels: readonly ChannelData[], swings: readonly Swing[], tick = 120): Promise<boolean> {
+    const rig = this.rig;
+    if (!rig || !this.live) return false;
+    this.settling.begin();
+    const answer = await this.worker.call("setMotion", { generation: rig.generation, channels, swings, tick });
+    this.settling.end();
+    this.settling.check();
+    if (answer.status === "error" && rig === this.rig) this.status.error(answer.error, "the swings were not set");
+    return answer.status === "ok";
   }
 
   /** Stops playback where it is. */

@@ -12,7 +12,8 @@ import type { FrameRecord } from "./frames.js";
 import type { Overlay } from "./overlay.js";
 import { anchorAt, follow } from "./locate.js";
 import { pictureFromURL } from "./picture.js";
-import type { Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
+import type { ChannelData, Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
+import type { Timeline } from "./timeline.js";
 
 /** A pin as the tests see it: its target (x, y, what a drag moves) and where its material
  *  is drawn, in viewport CSS pixels; its kind and turn. */
@@ -87,6 +88,14 @@ export interface MotionHook {
   setKeyform(id: string, key: number): Promise<boolean>;
   /** Moves parameter `id`'s slider (as its input event does). */
   setValue(id: string, value: number): void;
+  /** The timeline: its channels (as a document holds them), the playhead, the selected
+   *  key, a scrub to `t` (resolves once that frame is shown), and the value keyed
+   *  parameter `id` takes at `t` (`keyTrack.valueInto`). */
+  channels(): ChannelData[];
+  time(): number;
+  selectedKey(): { id: string; index: number } | null;
+  seek(t: number): Promise<void>;
+  valueAt(id: string, t: number): number | null;
 }
 
 /** The layered character as the tests see it; points in viewport CSS pixels unless said. */
@@ -126,7 +135,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage, timeline: Timeline): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -187,6 +196,15 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
       addParameter: (spec) => app.parameters.add(spec),
       setKeyform: (id, key) => app.parameters.setKeyform(id, key),
       setValue: (id, value) => app.parameters.setValue(id, value),
+      channels: () => JSON.parse(JSON.stringify(timeline.channels())) as ChannelData[],
+      time: () => timeline.time,
+      selectedKey: () => (timeline.selected ? { ...timeline.selected } : null),
+      seek: async (t) => {
+        timeline.time = t;
+        await app.seek(t);
+        await app.settled();
+      },
+      valueAt: (id, t) => timeline.valueAt(id, t),
     },
   };
 }

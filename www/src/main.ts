@@ -11,7 +11,9 @@ import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
+import { loadWasm } from "./characterfiles.js";
 import { attachParameterPanel } from "./parameterpanel.js";
+import { Timeline } from "./timeline.js";
 import { METHODS, PIN_KINDS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
 import { Status } from "./status.js";
@@ -218,10 +220,50 @@ async function main(status: Status): Promise<void> {
     },
     theApp.parameters,
   );
-  theApp.onMotionChange = () => renderParameters();
+  // The timeline's key tracks and the curve editor's easings are the package's, on this
+  // thread: its wasm module loads beside the worker's.
+  await loadWasm();
+  const timeline = new Timeline(
+    {
+      play: element("timeline-play", HTMLButtonElement),
+      time: element("timeline-time", HTMLOutputElement),
+      duration: element("timeline-duration", HTMLInputElement),
+      strip: element("timeline", HTMLCanvasElement),
+      parameter: element("timeline-parameter", HTMLSelectElement),
+      key: element("timeline-key", HTMLButtonElement),
+      remove: element("timeline-delete", HTMLButtonElement),
+      ease: element("timeline-ease", HTMLSelectElement),
+      curve: element("curve", HTMLCanvasElement),
+    },
+    theApp.parameters,
+    {
+      play: (from) => void theApp.playFrom(from),
+      stop: () => theApp.endPlayback(),
+      seek: (t) => {
+        if (timeline.channels().length > 0) void theApp.seek(t);
+      },
+      playing: () => theApp.playing,
+      changed: () => void syncMotion(),
+    },
+  );
+  const syncMotion = () => theApp.setMotion(timeline.channels(), []);
+  theApp.onMotionChange = () => {
+    renderParameters();
+    timeline.parametersChanged();
+  };
+  theApp.onMotionRestored = (state) => timeline.restore(state?.channels ?? null);
+  theApp.onPlayFrame = (t) => {
+    timeline.showTime(t);
+    renderParameters();
+  };
+  const animationChanged = theApp.onAnimationChange;
+  theApp.onAnimationChange = () => {
+    animationChanged();
+    timeline.render();
+  };
   theApp.onMotionChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
-  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters);
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters, timeline);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 
