@@ -193,3 +193,68 @@ test("the timeline: keys with an easing preset play the eased value at mid time;
   assert.equal((await motion(page, "channels"))[0].keys.length, 1);
   assert.deepEqual(errors, []);
 });
+
+/** Pin `k`'s material point (viewport CSS pixels) at each of the next `frames` animation
+ *  frames. */
+const materialFrames = (page, k, frames) =>
+  page.evaluate(
+    ([k, frames]) =>
+      new Promise((resolve) => {
+        const out = [];
+        const step = () => {
+          const p = window.bunrakuDemo.pins()[k];
+          out.push([p.material.x, p.material.y]);
+          if (out.length < frames) requestAnimationFrame(step);
+          else resolve(out);
+        };
+        requestAnimationFrame(step);
+      }),
+    [k, frames],
+  );
+const gap = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+
+test("the swing tool: a swung pin trails where its roots carry it, then settles there; without the swing it holds its target", { timeout: TIMEOUT }, async (t) => {
+  const { page, context, errors } = await openDemo(demo);
+  t.after(() => context.close());
+  // Select the left hand's pin (a press on it), and make it swing.
+  const hand = (await pins(page))[1];
+  await page.mouse.click(hand.x, hand.y);
+  await page.locator("#swing-frequency").fill("2");
+  await page.locator("#swing-damping").fill("0.3");
+  await page.locator("#swing-pin").click();
+  await settled(page);
+  assert.deepEqual(await motion(page, "swings"), [
+    { kind: "pins", pin: 1, root: [0, 2, 3], frequency: 2, damping: 0.3, inertia: 1, gravity: [0, 0], limit: 0, mix: 1 },
+  ]);
+  const start = (await pins(page))[1].material;
+  const h0 = [start.x, start.y];
+
+  // Drag the head's pin to the right: the roots' fit carries the hand, which trails.
+  const head = (await pins(page))[0];
+  await page.mouse.move(head.x, head.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 12; k++) await page.mouse.move(head.x + 10 * k, head.y);
+  await page.mouse.up();
+  const frames = await materialFrames(page, 1, 20);
+  await settled(page);
+  const end = (await pins(page))[1].material;
+  const h1 = [end.x, end.y];
+  assert.ok(gap(h1, h0) > 10, `the hand went with its roots: ${gap(h1, h0)} px`);
+  const steps = frames.slice(1).map((f, k) => gap(f, frames[k]));
+  assert.ok(Math.max(...steps) > 0.5, `the hand moved between frames after the drag: ${steps.map((s) => s.toFixed(2))}`);
+  assert.ok(gap(frames[0], h1) > 2, `the hand trailed: ${gap(frames[0], h1)} px from where it settles`);
+  // Settled: still over the next frames.
+  const still = await materialFrames(page, 1, 10);
+  for (const f of still) assert.deepEqual(f, h1);
+
+  // Without the swing, the hand's pin holds its target again.
+  await page.locator('#swing-list button[data-swing="0"]').click();
+  await settled(page);
+  const head2 = (await pins(page))[0];
+  await drag(page, head2, { x: head2.x, y: head2.y + 5 });
+  await settled(page);
+  const held = (await pins(page))[1].material;
+  assert.ok(gap([held.x, held.y], h0) < 1, `the hand is back at its target: ${gap([held.x, held.y], h0)} px`);
+  assert.deepEqual(await motion(page, "swings"), []);
+  assert.deepEqual(errors, []);
+});

@@ -12,7 +12,8 @@ import type { FrameRecord } from "./frames.js";
 import type { Overlay } from "./overlay.js";
 import { anchorAt, follow } from "./locate.js";
 import { pictureFromURL } from "./picture.js";
-import type { ChannelData, Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
+import type { Swings } from "./swing.js";
+import type { ChannelData, Swing, Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
 import type { Timeline } from "./timeline.js";
 
 /** A pin as the tests see it: its target (x, y, what a drag moves) and where its material
@@ -96,6 +97,8 @@ export interface MotionHook {
   selectedKey(): { id: string; index: number } | null;
   seek(t: number): Promise<void>;
   valueAt(id: string, t: number): number | null;
+  /** The swings as the worker gets them (pins by index). */
+  swings(): Swing[];
 }
 
 /** The layered character as the tests see it; points in viewport CSS pixels unless said. */
@@ -135,7 +138,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage, timeline: Timeline): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage, timeline: Timeline, swings: Swings): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -205,6 +208,7 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
         await app.settled();
       },
       valueAt: (id, t) => timeline.valueAt(id, t),
+      swings: () => JSON.parse(JSON.stringify(swings.forWorker(app.current?.rig ?? null))) as Swing[],
     },
   };
 }

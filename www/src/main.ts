@@ -13,6 +13,7 @@ import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
 import { loadWasm } from "./characterfiles.js";
 import { attachParameterPanel } from "./parameterpanel.js";
+import { Swings } from "./swing.js";
 import { Timeline } from "./timeline.js";
 import { METHODS, PIN_KINDS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
@@ -246,12 +247,44 @@ async function main(status: Status): Promise<void> {
       changed: () => void syncMotion(),
     },
   );
-  const syncMotion = () => theApp.setMotion(timeline.channels(), []);
+  const swings = new Swings(
+    {
+      frequency: element("swing-frequency", HTMLInputElement),
+      damping: element("swing-damping", HTMLInputElement),
+      inertia: element("swing-inertia", HTMLInputElement),
+      gravity: element("swing-gravity", HTMLInputElement),
+      limit: element("swing-limit", HTMLInputElement),
+      mix: element("swing-mix", HTMLInputElement),
+      swingPin: element("swing-pin", HTMLButtonElement),
+      parameter: element("swing-parameter", HTMLSelectElement),
+      input: element("swing-input", HTMLSelectElement),
+      addParameter: element("swing-parameter-add", HTMLButtonElement),
+      list: element("swing-list", HTMLOListElement),
+    },
+    {
+      rig: () => theApp.current?.rig ?? null,
+      selectedPin: () => theApp.board.selected,
+      parameters: theApp.parameters,
+      changed: () => void syncMotion(),
+      say: (text) => status.info(text),
+    },
+  );
+  const syncMotion = () => theApp.setMotion(timeline.channels(), swings.forWorker(theApp.current?.rig ?? null));
+  // A new pin set: the pin springs are made again for it.
+  theApp.board.pinsCompiled = () => {
+    if (!swings.swingsPins) return;
+    void syncMotion();
+    swings.render();
+  };
   theApp.onMotionChange = () => {
     renderParameters();
     timeline.parametersChanged();
+    swings.render();
   };
-  theApp.onMotionRestored = (state) => timeline.restore(state?.channels ?? null);
+  theApp.onMotionRestored = (state) => {
+    timeline.restore(state?.channels ?? null);
+    swings.restore(state?.swings ?? null, theApp.current?.rig ?? null);
+  };
   theApp.onPlayFrame = (t) => {
     timeline.showTime(t);
     renderParameters();
@@ -263,7 +296,7 @@ async function main(status: Status): Promise<void> {
   };
   theApp.onMotionChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
-  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters, timeline);
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters, timeline, swings);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 

@@ -189,7 +189,8 @@ const springOf = (s: PinSwing): SpringSettings => ({
   damping: s.damping,
   inertia: s.inertia,
   gravity: [s.gravity[0], s.gravity[1]],
-  limit: s.limit,
+  // 0: the library's default (half the distance to the nearest root).
+  ...(s.limit > 0 ? { limit: s.limit } : {}),
   mix: s.mix,
 });
 
@@ -296,15 +297,6 @@ export function restoreMotion(held: Held, doc: PuppetDocument, poses: Float64Arr
   if (parameters.length > 0) motion.rig = makeRig(held, parameters, correctives);
   motion.parameters = parameters;
   motion.correctives = correctives;
-  // A pin spring with no saved limit takes the library's default (half the distance to
-  // its nearest root): the page's setting 0 means that.
-  setMotion(held, channels, swings.map((s) => (s.kind === "pins" && s.limit === 0 ? withDefaultLimit(held, s) : s)), tick);
+  setMotion(held, channels, swings, tick);
   return { state: { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick }, used };
-}
-
-/** Half the rest distance from pin `s.pin` to its nearest root (the library's default). */
-function withDefaultLimit(held: Held, s: PinSwing): PinSwing {
-  const r = held.pins.rests;
-  const d = Math.min(...s.root.map((k) => Math.hypot(r[2 * k]! - r[2 * s.pin]!, r[2 * k + 1]! - r[2 * s.pin + 1]!)));
-  return { ...s, limit: Number.isFinite(d) && d > 0 ? d / 2 : 1 };
 }
