@@ -11,7 +11,7 @@
 import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
-import { initSync, Easing } from "bunraku";
+import { initSync, Easing, Player } from "bunraku";
 import { drag, openDemo, settled, startDemo } from "./_harness.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -256,5 +256,67 @@ test("the swing tool: a swung pin trails where its roots carry it, then settles 
   const held = (await pins(page))[1].material;
   assert.ok(gap([held.x, held.y], h0) < 1, `the hand is back at its target: ${gap([held.x, held.y], h0)} px`);
   assert.deepEqual(await motion(page, "swings"), []);
+  assert.deepEqual(errors, []);
+});
+
+test("a document saves the parameters, keyforms, channels and a parameter swing as version 3, plays its channels, and opens again with all of them", { timeout: TIMEOUT }, async (t) => {
+  const { page, errors } = await withWave(t);
+  // A second parameter, "ear", keyed at 1 with the hand raised further, swung by wave.
+  await addParameter(page, "ear");
+  const hand = (await pins(page))[1];
+  await drag(page, hand, { x: hand.x + 40, y: hand.y - 30 });
+  await page.locator('#parameter-list li[data-parameter="ear"] button[data-key="1"]').click();
+  await page.waitForFunction(() => window.bunrakuDemo.motion.parameters()[1].keyforms[2] === true);
+  await page.locator("#swing-parameter").selectOption("ear");
+  await page.locator("#swing-input").selectOption("wave");
+  await page.locator("#swing-frequency").fill("1.5");
+  await page.locator("#swing-damping").fill("0.2");
+  await page.locator("#swing-parameter-add").click();
+  // Keys: wave from 0 (ease-in-out) to 1 over a second.
+  await motion(page, "setValue", "wave", 0);
+  await page.locator("#timeline-parameter").selectOption("wave");
+  await page.locator("#timeline-ease").selectOption("ease-in-out");
+  await page.locator("#timeline-key").click();
+  await motion(page, "seek", 1);
+  await motion(page, "setValue", "wave", 1);
+  await page.locator("#timeline-key").click();
+  await settled(page);
+
+  const text = await motion(page, "saveDocument");
+  const doc = JSON.parse(text);
+  const vertices = (await restMesh(page)).vertices.length;
+  assert.equal(doc.version, 3);
+  assert.equal(doc.tick, 120);
+  assert.equal(doc.play, "channels");
+  assert.deepEqual(doc.parameters.map(({ keyforms, ...p }) => p), [
+    { id: "wave", min: -1, max: 1, default: 0, keys: [-1, 0, 1] },
+    { id: "ear", min: -1, max: 1, default: 0, keys: [-1, 0, 1] },
+  ]);
+  for (const p of doc.parameters) {
+    assert.equal(p.keyforms[0].pose, null);
+    assert.equal(p.keyforms[1].pose, null, "the default key is the rest");
+    assert.equal(doc.poses[p.keyforms[2].pose].positions.length, vertices);
+  }
+  assert.notEqual(doc.parameters[0].keyforms[2].pose, doc.parameters[1].keyforms[2].pose);
+  assert.deepEqual(doc.channels, [{ target: "parameters.wave", keys: [{ t: 0, v: 0, interp: "bezier", ease: "ease-in-out" }, { t: 1, v: 1, interp: "bezier", ease: "ease-in-out" }] }]);
+  assert.deepEqual(doc.dynamics, [{ kind: "parameter", parameter: "ear", input: { parameter: "wave" }, frequency: 1.5, damping: 0.2, inertia: 1, scale: 1 }]);
+  // The package's player reads it (in Node too) and plays the channels.
+  const player = Player.load(text);
+  assert.equal(player.mode, "channels");
+  assert.deepEqual(player.parameters.map((p) => p.id), ["wave", "ear"]);
+  player.free();
+
+  // Opened again: the panel, the timeline and the swing are back, and it plays.
+  const before = await motion(page, "parameters");
+  assert.equal(await motion(page, "openDocument", text, "waving.bunraku.json"), true);
+  await settled(page);
+  assert.deepEqual(await motion(page, "parameters"), before);
+  assert.deepEqual(await motion(page, "channels"), doc.channels);
+  assert.deepEqual(await motion(page, "swings"), [{ kind: "parameter", parameter: "ear", input: "wave", frequency: 1.5, damping: 0.2, inertia: 1, scale: 1 }]);
+  assert.equal(await page.locator("#parameter-list li").count(), 2);
+  await motion(page, "seek", 0.5);
+  assert.equal((await motion(page, "values")).wave, Easing.parse("ease-in-out").at(0.5));
+  // Saved again, the same document.
+  assert.deepEqual(JSON.parse(await motion(page, "saveDocument")), { ...doc, loop: false });
   assert.deepEqual(errors, []);
 });

@@ -99,6 +99,10 @@ export interface MotionHook {
   valueAt(id: string, t: number): number | null;
   /** The swings as the worker gets them (pins by index). */
   swings(): Swing[];
+  /** The document "Save document" downloads (its JSON text), or null. */
+  saveDocument(): Promise<string | null>;
+  /** Opens a document's JSON text as "Open document…" does; resolves to whether it opened. */
+  openDocument(text: string, name: string): Promise<boolean>;
 }
 
 /** The layered character as the tests see it; points in viewport CSS pixels unless said. */
@@ -209,6 +213,8 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
       },
       valueAt: (id, t) => timeline.valueAt(id, t),
       swings: () => JSON.parse(JSON.stringify(swings.forWorker(app.current?.rig ?? null))) as Swing[],
+      saveDocument: () => app.documentJSON(),
+      openDocument: (text, name) => app.openDocument(text, name),
     },
   };
 }
