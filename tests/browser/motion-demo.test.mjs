@@ -320,3 +320,67 @@ test("a document saves the parameters, keyforms, channels and a parameter swing 
   assert.deepEqual(JSON.parse(await motion(page, "saveDocument")), { ...doc, loop: false });
   assert.deepEqual(errors, []);
 });
+
+/** Where rest point (x, y) of `part` of the character is drawn at each of the next
+ *  `frames` animation frames. */
+const partFrames = (page, part, [x, y], frames) =>
+  page.evaluate(
+    ([part, x, y, frames]) =>
+      new Promise((resolve) => {
+        const out = [];
+        const step = () => {
+          out.push(window.bunrakuDemo.character.follow(part, x, y));
+          if (out.length < frames) requestAnimationFrame(step);
+          else resolve(out);
+        };
+        requestAnimationFrame(step);
+      }),
+    [part, x, y, frames],
+  );
+
+test("the sample character turns its head by its headTurn slider, and its ear (or the head's top) swings from the turn and settles", { timeout: TIMEOUT }, async (t) => {
+  const { page, context, errors } = await openDemo(demo);
+  t.after(() => context.close());
+  await page.locator("#open-sample").click();
+  await page.waitForFunction(() => window.bunrakuDemo.character.state() !== null, null, { timeout: 20_000 });
+  await settled(page);
+  assert.equal(await page.locator("#character-motion").isVisible(), true);
+  const { parts } = await page.evaluate(() => window.bunrakuDemo.character.state());
+  // The swinging point: the ear's tip (scripts/make-sample-character.mjs), or the head's top.
+  const [swingPart, swingPoint] = parts.includes("ear") ? ["ear", [91, 110]] : ["head", [160, 14]];
+  const eye = [145, 78];
+  const eyeAtRest = await page.evaluate(([x, y]) => window.bunrakuDemo.character.follow("head", x, y), eye);
+
+  await page.evaluate(() => {
+    const slider = document.querySelector("#head-turn");
+    slider.value = "1";
+    slider.dispatchEvent(new Event("input", { bubbles: true }));
+  });
+  assert.equal(await page.locator("#head-turn-value").textContent(), "1.00");
+  // The swing, frame by frame: it keeps moving after the head has turned.
+  const swing = await partFrames(page, swingPart, swingPoint, 90);
+  const steps = swing.slice(1).map((f, k) => gap(f, swing[k]));
+  const late = steps.slice(30);
+  assert.ok(Math.max(...late) > 0.05, `the ${swingPart} still swings half a second on: ${late.map((s) => s.toFixed(2))}`);
+  const motionState = await page.evaluate(() => window.bunrakuDemo.character.motion());
+  assert.equal(motionState.active, true);
+  assert.ok(motionState.framesSinceMove >= 90, `${motionState.framesSinceMove} frames posed`);
+  // Settled (the swing's frames counted out): still, and the head turned 25° about the
+  // neck (the middle of the head's rectangle, 82% down: (160, 117.88) on the sample).
+  await settled(page);
+  assert.equal((await page.evaluate(() => window.bunrakuDemo.character.motion())).active, false);
+  const still = await partFrames(page, swingPart, swingPoint, 5);
+  for (const f of still) assert.deepEqual(f, still[0]);
+  const a = (25 * Math.PI) / 180, [cx, cy] = [160, 8 + 0.82 * (142 - 8)];
+  const turnedEye = [cx + Math.cos(a) * (eye[0] - cx) - Math.sin(a) * (eye[1] - cy), cy + Math.sin(a) * (eye[0] - cx) + Math.cos(a) * (eye[1] - cy)];
+  const expected = await page.evaluate(([x, y]) => window.bunrakuDemo.character.toClient(x, y), turnedEye);
+  const eyeNow = await page.evaluate(([x, y]) => window.bunrakuDemo.character.follow("head", x, y), eye);
+  assert.ok(gap(eyeAtRest, expected) > 20, "the turn moves the eye");
+  assert.ok(gap(eyeNow, expected) < 0.25 * gap(eyeAtRest, expected), `the eye is where the turn puts it: ${gap(eyeNow, expected).toFixed(2)} px off (it moved ${gap(eyeAtRest, eyeNow).toFixed(2)})`);
+
+  // Reset pose: the head straight again.
+  await page.locator("#reset").click();
+  await settled(page);
+  assert.equal(await page.locator("#head-turn-value").textContent(), "0.00");
+  assert.deepEqual(errors, []);
+});

@@ -134,6 +134,9 @@ export interface CharacterHook {
   dragFrames(id: number, to: [number, number], frames: number): Promise<number[]>;
   /** The character's recent frames: rAF timestamp, update and whole-callback times (ms). */
   frames(): { time: number; solveMs: number; workMs: number }[];
+  /** Whether the head turn's pose is on screen (charactermotion.ts), and how many frames it
+   *  has posed since the slider last moved. */
+  motion(): { active: boolean; framesSinceMove: number };
 }
 
 declare global {
@@ -250,6 +253,7 @@ function characterHook(characters: CharacterStage): CharacterHook {
     },
     setDrawOrder: (order) => characters.setDrawOrder(order),
     frames: () => characters.frameRecords.map((r) => ({ ...r })),
+    motion: () => ({ active: characters.motion.active, framesSinceMove: characters.motion.framesSinceMove }),
     dragFrames: (id, to, frames) =>
       new Promise((resolve) => {
         const pin = characters.pinList().find((p) => p.id === id);

@@ -68,6 +68,7 @@ async function main(status: Status): Promise<void> {
       panel: element("character-panel", HTMLElement),
       order: element("draw-order", HTMLOListElement),
       showGlue: element("show-glue", HTMLInputElement),
+      motion: { field: element("character-motion", HTMLElement), slider: element("head-turn", HTMLInputElement), output: element("head-turn-value", HTMLOutputElement) },
     },
     status,
     method,
