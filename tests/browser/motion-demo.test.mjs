@@ -384,3 +384,61 @@ test("the sample character turns its head by its headTurn slider, and its ear (o
   assert.equal(await page.locator("#head-turn-value").textContent(), "0.00");
   assert.deepEqual(errors, []);
 });
+
+test("documents without channels: parameters alone, and a pin swing with a recorded drag (which then plays its track); the 2D pad keys a corrective", { timeout: TIMEOUT }, async (t) => {
+  const { page, errors } = await withWave(t);
+  // A second parameter and the pad: its corner (1, 1) keyed with the pose on screen.
+  await addParameter(page, "lift");
+  await page.locator("#pad-x").selectOption("wave");
+  await page.locator("#pad-y").selectOption("lift");
+  await page.locator("#parameter-pad").scrollIntoViewIfNeeded();
+  const pad = await page.locator("#parameter-pad").boundingBox();
+  await page.mouse.click(pad.x + pad.width - 1, pad.y + 1); // x = wave's max, y = lift's max
+  await settled(page);
+  const values = await motion(page, "values");
+  assert.ok(values.wave > 0.98 && values.lift > 0.98, `the pad's corner: ${JSON.stringify(values)}`);
+  const hand = (await pins(page))[2];
+  await drag(page, hand, { x: hand.x + 30, y: hand.y - 40 });
+  await page.locator("#set-corrective").click();
+  await settled(page);
+  const corrected = await positions(page);
+  let doc = JSON.parse(await motion(page, "saveDocument"));
+  assert.equal(doc.version, 3);
+  assert.equal(doc.channels, undefined);
+  assert.equal(doc.play, undefined);
+  assert.deepEqual(doc.grids.map((g) => ({ ...g, keyforms: g.keyforms.map((k) => k.at) })), [{ parameters: ["wave", "lift"], keyforms: [[1, 1]] }]);
+  assert.equal(doc.poses[doc.grids[0].keyforms[0].pose].positions.length, corrected.length);
+  Player.load(doc).free();
+  // The corrective is the pose at the corner.
+  await motion(page, "setValue", "wave", 1);
+  await motion(page, "setValue", "lift", 1);
+  await settled(page);
+  assert.ok(farthest(await positions(page), corrected) < 1e-6, `the corner gives the corrective (off by ${farthest(await positions(page), corrected)})`);
+
+  // A pin swing without a recording is not saved, and the page says so.
+  const head = (await pins(page))[0];
+  await page.mouse.click(head.x, head.y);
+  await page.locator("#swing-pin").click();
+  await settled(page);
+  doc = JSON.parse(await motion(page, "saveDocument"));
+  assert.equal(doc.dynamics, undefined);
+  assert.match((await message(page)).text, /not saved: the pin swings/);
+  // Recorded, the drag plays its track with the spring on pin 0.
+  await page.locator("#record").click();
+  const body = (await pins(page))[3];
+  await drag(page, body, { x: body.x + 40, y: body.y });
+  await page.locator("#record").click();
+  await settled(page);
+  const text = await motion(page, "saveDocument");
+  doc = JSON.parse(text);
+  assert.equal(doc.play, "track");
+  assert.deepEqual(doc.dynamics, [{ kind: "pins", pin: 0, root: [1, 2, 3], frequency: 1.2, damping: 0.12, inertia: 1, gravity: [0, 0], mix: 1 }]);
+  const player = Player.load(text);
+  assert.equal(player.mode, "track");
+  player.free();
+  assert.equal(await motion(page, "openDocument", text, "swinging.bunraku.json"), true);
+  await settled(page);
+  assert.deepEqual(await motion(page, "swings"), [{ kind: "pins", pin: 0, root: [1, 2, 3], frequency: 1.2, damping: 0.12, inertia: 1, gravity: [0, 0], limit: 0, mix: 1 }]);
+  assert.deepEqual((await motion(page, "parameters")).map((p) => p.id), ["wave", "lift"]);
+  assert.deepEqual(errors, []);
+});

@@ -7,7 +7,7 @@ import { compilePins, copyRegion, freeHeld, held, own, stale, stats, type Held }
 import { attempt, type Outcome } from "./outcome.js";
 import type { Calls, DocumentData, Kind, MotionResult } from "./protocol.js";
 import { documentOf, loadDocument } from "./puppetdocument.js";
-import { addParameter, motionOf, motionResult, parameterPose, pinsChanged, removeParameter, setCorrective, setKeyform, setMotion, swungTargets, type MotionHeld } from "./motion.js";
+import { addParameter, motionOf, motionResult, parameterPose, pinsChanged, removeParameter, setCorrective, setKeyform, setMotion, swing, type MotionHeld } from "./motion.js";
 import { keyframe, recordSample } from "./recording.js";
 import { open } from "./registering.js";
 
@@ -36,8 +36,8 @@ export const handlers: Handlers = {
     if (rig.recording && time !== undefined) recordSample(rig, time, targets, rotations);
     const t0 = performance.now();
     // Secondary pins swing about where their roots carry them (motion.ts).
-    const swung = swungTargets(rig, time, targets, rotations);
-    if (swung) rig.puppet.updateInto(swung.targets, out, swung.rotations);
+    const swinging = swing(rig, time, targets, rotations);
+    if (swinging !== null && rig.motion) rig.puppet.updateInto(rig.motion.swungTargets, out, rig.motion.swungRotations);
     else rig.puppet.updateInto(targets, out, rotations);
     const solveMs = performance.now() - t0;
     if (rig.recording && time !== undefined) keyframe(rig, time, out);
@@ -45,7 +45,7 @@ export const handlers: Handlers = {
     const simulationPositions = simulation ? own(rig.puppet.simulationPositions) : null;
     const transfer: Transferable[] = [out.buffer, pinPositions.buffer];
     if (simulationPositions) transfer.push(simulationPositions.buffer);
-    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs, swung?.swinging ?? false), simulationPositions }, transfer };
+    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs, swinging ?? false), simulationPositions }, transfer };
   },
 
   simulation({ generation }) {

@@ -223,8 +223,9 @@ async function main(status: Status): Promise<void> {
     theApp.parameters,
   );
   // The timeline's key tracks and the curve editor's easings are the package's, on this
-  // thread: its wasm module loads beside the worker's.
-  await loadWasm();
+  // thread: its wasm module loads beside the worker's (not waited for: nothing uses it
+  // before the user keys a value or opens a document).
+  loadWasm().catch((e: unknown) => status.error(e, "the timeline cannot key values"));
   const timeline = new Timeline(
     {
       play: element("timeline-play", HTMLButtonElement),

@@ -196,10 +196,10 @@ const springOf = (s: PinSwing): SpringSettings => ({
 
 const copyChannel = (c: ChannelData): ChannelData => ({ target: c.target, keys: c.keys.map((k) => ({ ...k, ...(Array.isArray(k.v) ? { v: [...(k.v as number[])] } : {}) })) });
 
-/** The targets the pin springs give at `time` (page clock, s) for the pins' `targets` and
- *  `rotations`, or null without springs for this pin set; and whether they still move.
- *  Allocates nothing. */
-export function swungTargets(held: Held, time: number | undefined, targets: Float64Array, rotations: Float64Array): { targets: Float64Array; rotations: Float64Array; swinging: boolean } | null {
+/** Swings the pins' `targets` and `rotations` at `time` (page clock, s) into the motion's
+ *  `swungTargets` and `swungRotations`: returns null without springs for this pin set,
+ *  else whether they still move. Allocates nothing. */
+export function swing(held: Held, time: number | undefined, targets: Float64Array, rotations: Float64Array): boolean | null {
   const motion = held.motion;
   const dynamics = motion?.dynamics;
   if (!motion || !dynamics || time === undefined || dynamics.pinCount * 2 !== targets.length) return null;
@@ -213,7 +213,7 @@ export function swungTargets(held: Held, time: number | undefined, targets: Floa
     s.lag = lag;
     s.since = time;
   }
-  return { targets: motion.swungTargets, rotations: motion.swungRotations, swinging: time - s.since < SETTLE_SECONDS };
+  return time - s.since < SETTLE_SECONDS;
 }
 
 /** What a document of `held` holds of its motion, added to `document`: the parameters
