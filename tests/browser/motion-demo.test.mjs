@@ -128,7 +128,9 @@ async function stripPoint(page, t, duration, row = 0, rows = 1) {
   const box = await page.locator("#timeline").boundingBox();
   const { width, height } = await page.evaluate(() => ({ width: document.querySelector("#timeline").width, height: document.querySelector("#timeline").height }));
   const y = 16 + (row + 0.5) * ((height - 16) / rows);
-  return { x: box.x + Math.max(0.5, (t / duration) * box.width), y: box.y + (y / height) * box.height, scale: box.width / width };
+  const margin = 7; // www/src/timeline.ts
+  const x = margin + (t / duration) * (width - 2 * margin);
+  return { x: box.x + (x / width) * box.width, y: box.y + (y / height) * box.height };
 }
 
 test("the timeline: keys with an easing preset play the eased value at mid time; keys move, change easing, take a custom curve and are deleted", { timeout: TIMEOUT }, async (t) => {

@@ -59,6 +59,8 @@ export function presetOf(key: KeyData): { preset: Preset; handles: Handles | nul
 
 const RULER = 16;
 const DIAMOND = 5;
+/** The strip's margin left and right (canvas pixels): keys at 0 and at the end show whole. */
+export const MARGIN = 7;
 
 export class Timeline {
   /** The playhead (s) and the strip's length (s). */
@@ -245,15 +247,21 @@ export class Timeline {
   }
 
   private timeAt(e: PointerEvent): number {
-    const r = this.el.strip.getBoundingClientRect();
-    return Math.min(this.duration, Math.max(0, ((e.clientX - r.left) / r.width) * this.duration));
+    const c = this.el.strip, r = c.getBoundingClientRect();
+    const x = ((e.clientX - r.left) / r.width) * c.width;
+    return Math.min(this.duration, Math.max(0, ((x - MARGIN) / (c.width - 2 * MARGIN)) * this.duration));
+  }
+
+  /** Canvas x of time `t`. */
+  private xOf(t: number): number {
+    return MARGIN + (t / this.duration) * (this.el.strip.width - 2 * MARGIN);
   }
 
   /** Canvas pixels of key time `t` and row `k`. */
   private at(t: number, k: number): [number, number] {
     const c = this.el.strip;
     const h = (c.height - RULER) / Math.max(1, this.rows().length);
-    return [(t / this.duration) * c.width, RULER + (k + 0.5) * h];
+    return [this.xOf(t), RULER + (k + 0.5) * h];
   }
 
   private press(e: PointerEvent): void {
@@ -304,7 +312,7 @@ export class Timeline {
     ctx.textBaseline = "top";
     const step = this.duration <= 2 ? 0.25 : this.duration <= 10 ? 1 : 5;
     for (let t = 0; t <= this.duration + 1e-9; t += step) {
-      const x = (t / this.duration) * W;
+      const x = this.xOf(t);
       ctx.fillRect(x, 0, 1, t % 1 === 0 ? 8 : 4);
       if (t % 1 === 0) ctx.fillText(`${t}`, x + 2, 4);
     }
@@ -314,7 +322,7 @@ export class Timeline {
       ctx.strokeRect(0, y, W, 0);
       ctx.fillStyle = "#5b6475";
       ctx.textBaseline = "bottom";
-      ctx.fillText(id, 2, y - 1);
+      ctx.fillText(id, MARGIN, y - 1);
       for (const [index, key] of (this.keysOf.get(id) ?? []).entries()) {
         const dragged = this.dragging?.id === id && this.dragging.index === index;
         const [x] = this.at(dragged ? this.dragging!.t : key.t, k);
@@ -330,6 +338,6 @@ export class Timeline {
       }
     });
     ctx.fillStyle = "#c33";
-    ctx.fillRect((this.time / this.duration) * W, 0, 1, H);
+    ctx.fillRect(this.xOf(this.time), 0, 1, H);
   }
 }
