@@ -12,7 +12,7 @@ import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, Easing, Player } from "bunraku";
-import { drag, openDemo, settled, startDemo } from "./_harness.mjs";
+import { drag, openDemo, setDensity, settled, startDemo } from "./_harness.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
@@ -442,5 +442,38 @@ test("documents without channels: parameters alone, and a pin swing with a recor
   await settled(page);
   assert.deepEqual(await motion(page, "swings"), [{ kind: "pins", pin: 0, root: [1, 2, 3], frequency: 1.2, damping: 0.12, inertia: 1, gravity: [0, 0], limit: 0, mix: 1 }]);
   assert.deepEqual((await motion(page, "parameters")).map((p) => p.id), ["wave", "lift"]);
+  assert.deepEqual(errors, []);
+});
+
+test("a new method or detail keeps the parameters, keys and swings (the keyforms while the mesh is the same)", { timeout: TIMEOUT }, async (t) => {
+  const { page, errors } = await withWave(t);
+  await page.locator("#timeline-key").click();
+  const hand = (await pins(page))[1];
+  await page.mouse.click(hand.x, hand.y);
+  await page.locator("#swing-pin").click();
+  await settled(page);
+  const channels = await motion(page, "channels");
+  const swings = await motion(page, "swings");
+  assert.equal(channels.length, 1);
+  assert.equal(swings.length, 1);
+
+  // Another method: the same mesh, registered again; everything is kept, keyforms too.
+  await page.locator("#method").selectOption("two-step");
+  await page.waitForFunction(() => window.bunrakuDemo.method() === "two-step");
+  await settled(page);
+  assert.deepEqual((await motion(page, "parameters")).map((p) => [p.id, p.keyforms]), [["wave", [false, false, true]]]);
+  assert.deepEqual(await motion(page, "channels"), channels);
+  assert.deepEqual(await motion(page, "swings"), swings);
+  await motion(page, "setValue", "wave", 1);
+  await settled(page);
+  assert.ok(farthest(await positions(page), (await restMesh(page)).vertices) > 40, "the keyform still poses");
+
+  // Another detail: a new mesh; the parameter is kept, its keyform is the rest again.
+  await setDensity(page, 1000);
+  await page.waitForFunction(() => window.bunrakuDemo.mesh().vertices < 1500);
+  await settled(page);
+  await page.waitForFunction(() => window.bunrakuDemo.motion.parameters().length === 1);
+  assert.deepEqual((await motion(page, "parameters")).map((p) => [p.id, p.keyforms]), [["wave", [false, false, false]]]);
+  assert.deepEqual(await motion(page, "channels"), channels);
   assert.deepEqual(errors, []);
 });

@@ -375,6 +375,16 @@ export class App {
 
   // --- internals ---
 
+  /** Takes the motion of generation `from` (replaced by `rig`, a remesh) onto `rig`. */
+  private async adoptMotion(rig: Rig, from: number): Promise<void> {
+    this.settling.begin();
+    const answer = await this.worker.call("adoptMotion", { generation: rig.generation, from });
+    this.settling.end();
+    if (answer.status === "ok" && answer.result.state && rig === this.rig) this.restoreMotion(answer.result.state);
+    else if (answer.status === "error" && rig === this.rig) this.status.error(answer.error, "the parameters were not kept");
+    this.settling.check();
+  }
+
   /** The motion of the puppet on screen: none, or an opened document's. */
   private restoreMotion(state: MotionState | null): void {
     this.parameters.replace(state);
@@ -389,6 +399,10 @@ export class App {
     showMesh(this.renderer, rig);
     this.overlay.setEdges(rig.edges);
     this.regions.adopt(rig.rest, rig.triangles, opened.regions);
+    // A remesh of the same picture (detail, method) keeps the motion: asked for before the
+    // old generation is released (the worker answers in order).
+    const adopt = old && this.live && old.picture === picture ? old.generation : null;
+    if (adopt !== null) void this.adoptMotion(rig, adopt);
     if (old && this.live) this.opening.release(old.generation);
     this.rig = rig;
     this.live = true;

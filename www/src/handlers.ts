@@ -7,7 +7,7 @@ import { compilePins, copyRegion, freeHeld, held, own, stale, stats, type Held }
 import { attempt, type Outcome } from "./outcome.js";
 import type { Calls, DocumentData, Kind, MotionResult } from "./protocol.js";
 import { documentOf, loadDocument } from "./puppetdocument.js";
-import { addParameter, motionOf, motionResult, parameterPose, pinsChanged, removeParameter, setCorrective, setKeyform, setMotion, swing, type MotionHeld } from "./motion.js";
+import { addParameter, adoptMotion, motionOf, motionResult, parameterPose, pinsChanged, removeParameter, setCorrective, setKeyform, setMotion, swing, type MotionHeld } from "./motion.js";
 import { keyframe, recordSample } from "./recording.js";
 import { open } from "./registering.js";
 
@@ -243,6 +243,16 @@ export const handlers: Handlers = {
     setMotion(rig, channels, swings, tick);
     motionChanged(generation, rig, motionOf(rig));
     return { result: { generation }, transfer: [] };
+  },
+
+  adoptMotion({ generation, from }) {
+    const rig = held.get(generation);
+    const old = held.get(from);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (!old) return { result: { state: null }, transfer: [] };
+    const state = adoptMotion(rig, old);
+    if (state) motionChanged(generation, rig, motionOf(rig));
+    return { result: { state }, transfer: [] };
   },
 };
 

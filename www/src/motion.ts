@@ -266,6 +266,37 @@ export function addMotion(held: Held, document: PuppetDocument, pose: (positions
   return left.length > 0 ? `not saved: ${left.join("; ")}` : null;
 }
 
+/** Gives `held` (a remesh of `old`) the motion of `old`: the parameters, with their
+ *  keyforms and correctives when the rest mesh is the same (else they are the rest again:
+ *  keyforms are poses of one mesh), the channels, and the swings when its pins still fit
+ *  them. Returns the state for the page's panels, or null when `old` had none. */
+export function adoptMotion(held: Held, old: Held): MotionState | null {
+  const from = old.motion;
+  if (!from || (from.parameters.length === 0 && from.swings.length === 0 && from.channels.length === 0)) return null;
+  const same = sameArrays(held.puppet.vertices, old.puppet.vertices) && sameArrays(held.puppet.triangles, old.puppet.triangles);
+  const parameters: MotionHeld["parameters"] = from.parameters.map((p) => ({ spec: copySpec(p.spec), keyforms: p.keyforms.map((k) => (same ? k : null)) }));
+  const correctives = same ? from.correctives : [];
+  const motion = motionOf(held);
+  motion.rig?.free();
+  motion.rig = parameters.length > 0 ? makeRig(held, parameters, correctives) : null;
+  motion.parameters = parameters;
+  motion.correctives = correctives.map((c) => ({ ...c }));
+  const pins = held.pins.kinds.length;
+  const swings = from.swings.filter((s) => s.kind === "parameter" || (s.pin < pins && s.root.every((r) => r < pins)));
+  try {
+    setMotion(held, from.channels, swings, from.tick);
+  } catch {
+    setMotion(held, from.channels, swings.filter((s) => s.kind === "parameter"), from.tick);
+  }
+  return { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick: motion.tick };
+}
+
+function sameArrays(a: ArrayLike<number>, b: ArrayLike<number>): boolean {
+  if (a.length !== b.length) return false;
+  for (let k = 0; k < a.length; k++) if (a[k] !== b[k]) return false;
+  return true;
+}
+
 /** Gives `held` the motion of an opened document (`poses`: its poses on the rendered
  *  mesh), and returns it for the page's panels, with the indices of the poses used as
  *  keyforms (they are not the user's poses). */

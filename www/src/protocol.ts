@@ -459,6 +459,12 @@ export interface MotionBody {
   readonly tick: number;
 }
 
+export interface AdoptMotionBody {
+  readonly generation: number;
+  /** The generation replaced (not released yet). */
+  readonly from: number;
+}
+
 /** What an opened document holds for the motion panels. */
 export interface MotionState {
   readonly parameters: readonly ParameterInfo[];
@@ -519,6 +525,10 @@ export interface Calls {
   parameterPose: { body: ParameterPoseBody; result: PositionsResult };
   /** The timeline's channels and the swings (springs made again for the compiled pins). */
   setMotion: { body: MotionBody; result: { readonly generation: number } };
+  /** A remesh (detail, method) takes the motion of the generation it replaces: the
+   *  parameters (with their keyforms and correctives when the mesh is the same), the
+   *  channels and the swings (null: that one had none). */
+  adoptMotion: { body: AdoptMotionBody; result: { readonly state: MotionState | null } };
 }
 
 export type Kind = keyof Calls;
