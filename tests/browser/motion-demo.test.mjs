@@ -290,6 +290,7 @@ test("a document saves the parameters, keyforms, channels and a parameter swing 
   assert.equal(doc.version, 3);
   assert.equal(doc.tick, 120);
   assert.equal(doc.play, "channels");
+  assert.equal(doc.duration, 2, "the timeline's length");
   assert.deepEqual(doc.parameters.map(({ keyforms, ...p }) => p), [
     { id: "wave", min: -1, max: 1, default: 0, keys: [-1, 0, 1] },
     { id: "ear", min: -1, max: 1, default: 0, keys: [-1, 0, 1] },

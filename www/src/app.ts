@@ -339,14 +339,14 @@ export class App {
     return this.playback.play(0, t);
   }
 
-  /** Gives the worker the timeline's channels and the swings (`tick`: the springs' rate,
-   *  Hz); a refused swing is shown with the library's error. Resolves to whether they
-   *  were taken. */
-  async setMotion(channels: readonly ChannelData[], swings: readonly Swing[], tick = 120): Promise<boolean> {
+  /** Gives the worker the timeline's channels and length (s) and the swings (`tick`: the
+   *  springs' rate, Hz); a refused swing is shown with the library's error. Resolves to
+   *  whether they were taken. */
+  async setMotion(channels: readonly ChannelData[], swings: readonly Swing[], duration: number, tick = 120): Promise<boolean> {
     const rig = this.rig;
     if (!rig || !this.live) return false;
     this.settling.begin();
-    const answer = await this.worker.call("setMotion", { generation: rig.generation, channels, swings, tick });
+    const answer = await this.worker.call("setMotion", { generation: rig.generation, channels, swings, tick, duration });
     this.settling.end();
     this.settling.check();
     if (answer.status === "error" && rig === this.rig) this.status.error(answer.error, "the swings were not set");

@@ -237,10 +237,10 @@ export const handlers: Handlers = {
     return { result: { generation, positions: out, ms: performance.now() - t0 }, transfer: [out.buffer] };
   },
 
-  setMotion({ generation, channels, swings, tick }) {
+  setMotion({ generation, channels, swings, tick, duration }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
-    setMotion(rig, channels, swings, tick);
+    setMotion(rig, channels, swings, tick, duration);
     motionChanged(generation, rig, motionOf(rig));
     return { result: { generation }, transfer: [] };
   },

@@ -271,7 +271,9 @@ async function main(status: Status): Promise<void> {
       say: (text) => status.info(text),
     },
   );
-  const syncMotion = () => theApp.setMotion(timeline.channels(), swings.forWorker(theApp.current?.rig ?? null));
+  /** The springs' tick: an opened document's, else 120 Hz. */
+  let tick = 120;
+  const syncMotion = () => theApp.setMotion(timeline.channels(), swings.forWorker(theApp.current?.rig ?? null), timeline.duration, tick);
   // A new pin set: the pin springs are made again for it.
   theApp.board.pinsCompiled = () => {
     if (!swings.swingsPins) return;
@@ -284,7 +286,8 @@ async function main(status: Status): Promise<void> {
     swings.render();
   };
   theApp.onMotionRestored = (state) => {
-    timeline.restore(state?.channels ?? null);
+    tick = state?.tick ?? 120;
+    timeline.restore(state?.channels ?? null, state?.duration ?? null);
     swings.restore(state?.swings ?? null, theApp.current?.rig ?? null);
   };
   theApp.onPlayFrame = (t) => {

@@ -27,6 +27,8 @@ export interface MotionHeld {
   channels: ChannelData[];
   swings: Swing[];
   tick: number;
+  /** The timeline's length (s), or null. */
+  duration: number | null;
   /** The pin springs of the compiled pins (null without pin swings, or after a compile
    *  until the page sends them again), and their output buffers. */
   dynamics: Dynamics | null;
@@ -46,6 +48,7 @@ export function motionOf(rig: Held): MotionHeld {
     channels: [],
     swings: [],
     tick: 120,
+    duration: null,
     dynamics: null,
     swungTargets: new Float64Array(0),
     swungRotations: new Float64Array(0),
@@ -158,7 +161,7 @@ export function parameterPose(motion: MotionHeld, values: Float64Array, out: Flo
 
 /** Keeps the channels and swings, and makes the pin springs again for the compiled pins
  *  (throws a library error naming the setting; the previous swings are then kept). */
-export function setMotion(held: Held, channels: readonly ChannelData[], swings: readonly Swing[], tick: number): void {
+export function setMotion(held: Held, channels: readonly ChannelData[], swings: readonly Swing[], tick: number, duration: number | null): void {
   const motion = motionOf(held);
   const pinSwings = swings.filter((s): s is PinSwing => s.kind === "pins");
   const dynamics = pinSwings.length > 0 ? Dynamics.create(held.puppet, pinSwings.map(springOf), { tick }) : null;
@@ -171,6 +174,7 @@ export function setMotion(held: Held, channels: readonly ChannelData[], swings: 
   motion.channels = channels.map(copyChannel);
   motion.swings = swings.map((s) => ({ ...s }) as Swing);
   motion.tick = tick;
+  motion.duration = duration;
 }
 
 /** The pin set changed: its springs are made again when the page sends the swings for it. */
@@ -250,6 +254,8 @@ export function addMotion(held: Held, document: PuppetDocument, pose: (positions
   if (channels.length > 0) {
     document.channels = channels.map((c) => JSON.parse(JSON.stringify(c)) as NonNullable<PuppetDocument["channels"]>[number]);
     document.play = "channels";
+    const last = Math.max(...channels.flatMap((c) => c.keys.map((k) => k.t)));
+    document.duration = Math.max(motion.duration ?? 0, last);
     if (parameterSwings.length > 0) {
       document.dynamics = parameterSwings.map((s) => ({ kind: "parameter", parameter: s.parameter, input: { parameter: s.input }, frequency: s.frequency, damping: s.damping, inertia: s.inertia, scale: s.scale }));
     }
@@ -284,11 +290,11 @@ export function adoptMotion(held: Held, old: Held): MotionState | null {
   const pins = held.pins.kinds.length;
   const swings = from.swings.filter((s) => s.kind === "parameter" || (s.pin < pins && s.root.every((r) => r < pins)));
   try {
-    setMotion(held, from.channels, swings, from.tick);
+    setMotion(held, from.channels, swings, from.tick, from.duration);
   } catch {
-    setMotion(held, from.channels, swings.filter((s) => s.kind === "parameter"), from.tick);
+    setMotion(held, from.channels, swings.filter((s) => s.kind === "parameter"), from.tick, from.duration);
   }
-  return { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick: motion.tick };
+  return { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick: motion.tick, duration: motion.duration };
 }
 
 function sameArrays(a: ArrayLike<number>, b: ArrayLike<number>): boolean {
@@ -328,6 +334,7 @@ export function restoreMotion(held: Held, doc: PuppetDocument, poses: Float64Arr
   if (parameters.length > 0) motion.rig = makeRig(held, parameters, correctives);
   motion.parameters = parameters;
   motion.correctives = correctives;
-  setMotion(held, channels, swings, tick);
-  return { state: { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick }, used };
+  const duration = doc.play === "channels" && doc.duration !== undefined ? doc.duration : null;
+  setMotion(held, channels, swings, tick, duration);
+  return { state: { parameters: parameterInfos(motion), correctives: correctiveInfos(motion), channels: motion.channels, swings: motion.swings, tick, duration }, used };
 }

@@ -41,7 +41,7 @@ const stepOf = (p: ParameterInfo): number => (p.max - p.min) / 200;
 export const nearestKey = (keys: readonly number[], v: number): number => keys.reduce((a, b) => (Math.abs(b - v) < Math.abs(a - v) ? b : a));
 
 export function attachParameterPanel(el: ParameterElements, params: Parameters): () => void {
-  let shape = "";
+  let shown = -1;
   el.form.addEventListener("submit", (e) => {
     e.preventDefault();
     const spec = readSpec({ id: el.id.value, min: el.min.value, max: el.max.value, defaultValue: el.defaultValue.value, keys: el.keys.value });
@@ -124,9 +124,8 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
 
   return () => {
     const list = params.list;
-    const now = JSON.stringify(list);
-    if (now !== shape) {
-      shape = now;
+    if (params.revision !== shown) {
+      shown = params.revision;
       el.list.replaceChildren(...list.map((p) => parameterItem(p)));
       for (const select of [el.padX, el.padY]) {
         const chosen = select.value;

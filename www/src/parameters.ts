@@ -17,6 +17,8 @@ export class Parameters {
   /** Each parameter's value on the page (the slider's). */
   private readonly valueOf = new Map<string, number>();
   private readonly posing = { due: false, inFlight: false };
+  /** Counts the changes of the list (not of the values): the panel rebuilds on a new one. */
+  revision = 0;
 
   /** `endPlayback` stops playback (a slider takes the pose over); `changed` is told when
    *  the parameters, keyforms or values change (the panel redraws). */
@@ -49,6 +51,7 @@ export class Parameters {
   replace(state: { parameters: readonly ParameterInfo[]; correctives: readonly CorrectiveInfo[] } | null): void {
     this.infos = state?.parameters ?? [];
     this.correctiveList = state?.correctives ?? [];
+    this.revision++;
     this.valueOf.clear();
     this.changed();
   }
@@ -120,6 +123,7 @@ export class Parameters {
   private take(result: MotionResult): void {
     this.infos = result.parameters;
     this.correctiveList = result.correctives;
+    this.revision++;
     for (const id of [...this.valueOf.keys()]) if (!this.infos.some((p) => p.id === id)) this.valueOf.delete(id);
     this.changed();
   }

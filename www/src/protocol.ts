@@ -457,6 +457,9 @@ export interface MotionBody {
   readonly swings: readonly Swing[];
   /** The springs' tick, Hz. */
   readonly tick: number;
+  /** The timeline's length (s): a document that plays its channels lasts as long, or
+   *  until its last key. */
+  readonly duration: number;
 }
 
 export interface AdoptMotionBody {
@@ -472,6 +475,8 @@ export interface MotionState {
   readonly channels: readonly ChannelData[];
   readonly swings: readonly Swing[];
   readonly tick: number;
+  /** The timeline's length (s), when the document plays its channels. */
+  readonly duration: number | null;
 }
 
 /** Each request's body and its result. */

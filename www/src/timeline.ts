@@ -87,6 +87,7 @@ export class Timeline {
       const d = Number(el.duration.value);
       if (Number.isFinite(d) && d > 0) this.duration = d;
       this.render();
+      actions.changed();
     });
     el.key.addEventListener("click", () => this.keyValue(el.parameter.value, this.time, el.ease.value as Preset));
     el.remove.addEventListener("click", () => this.removeSelected());
@@ -107,8 +108,9 @@ export class Timeline {
     return [...this.keysOf].filter(([, keys]) => keys.length > 0).map(([id, keys]) => ({ target: `parameters.${id}`, keys }));
   }
 
-  /** Replaces every channel (none for a new picture; an opened document's). */
-  restore(channels: readonly ChannelData[] | null): void {
+  /** Replaces every channel (none for a new picture; an opened document's), and the
+   *  length when the document gives one. */
+  restore(channels: readonly ChannelData[] | null, duration: number | null = null): void {
     for (const track of this.tracks.values()) track.free();
     this.tracks.clear();
     this.keysOf.clear();
@@ -123,9 +125,9 @@ export class Timeline {
       this.keysOf.set(id, track.toJSON() as KeyData[]);
       end = Math.max(end, ...c.keys.map((k) => k.t));
     }
-    if (end > 0) {
-      this.duration = end;
-      this.el.duration.value = String(end);
+    if (end > 0 || duration !== null) {
+      this.duration = Math.max(end, duration ?? 0) || 2;
+      this.el.duration.value = String(this.duration);
     }
     this.render();
   }
