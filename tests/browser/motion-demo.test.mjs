@@ -321,6 +321,15 @@ test("a document saves the parameters, keyforms, channels and a parameter swing 
   assert.equal((await motion(page, "values")).wave, Easing.parse("ease-in-out").at(0.5));
   // Saved again, the same document.
   assert.deepEqual(JSON.parse(await motion(page, "saveDocument")), { ...doc, loop: false });
+  // Removing "ear" removes its swing; wave keeps its channel.
+  await page.locator('#parameter-list li[data-parameter="ear"] button[data-remove]').click();
+  await settled(page);
+  assert.deepEqual((await motion(page, "parameters")).map((p) => p.id), ["wave"]);
+  assert.deepEqual(await motion(page, "swings"), []);
+  assert.equal(await page.locator("#swing-list li").count(), 0);
+  const again = JSON.parse(await motion(page, "saveDocument"));
+  assert.equal(again.dynamics, undefined);
+  assert.deepEqual(again.channels, doc.channels);
   assert.deepEqual(errors, []);
 });
 

@@ -127,8 +127,8 @@ export class Swings {
    *  all swing). */
   forWorker(rig: Rig | null): Swing[] {
     const pins = rig?.pins ?? [];
+    this.prune(rig);
     const swinging = new Set(this.swings.flatMap((s) => (s.kind === "pins" ? [s.pinId] : [])));
-    this.swings = this.swings.filter((s) => s.kind !== "pins" || pins.some((p) => p.id === s.pinId));
     return this.swings.flatMap((s): Swing[] => {
       if (s.kind === "parameter") return [s];
       const pin = pins.findIndex((p) => p.id === s.pinId);
@@ -141,7 +141,15 @@ export class Swings {
     });
   }
 
+  /** Drops the swings whose pin (of `rig`) or parameter is gone. */
+  private prune(rig: Rig | null): void {
+    const pins = rig?.pins ?? [];
+    const ids = new Set(this.parts.parameters.list.map((p) => p.id));
+    this.swings = this.swings.filter((s) => (s.kind === "pins" ? pins.some((p) => p.id === s.pinId) : ids.has(s.parameter) && ids.has(s.input)));
+  }
+
   render(): void {
+    this.prune(this.parts.rig());
     const ids = this.parts.parameters.list.map((p) => p.id);
     for (const select of [this.el.parameter, this.el.input]) {
       if ([...select.options].map((o) => o.value).join("\n") === ids.join("\n")) continue;
