@@ -8,7 +8,9 @@
 // The parts, each in its module and each given what it needs (context.ts): opening
 // pictures and remeshing them as new generations (opening.ts), solves and the flip count
 // (solving.ts), the pins and regions (board.ts), the saved poses and their blends
-// (poses.ts), recording and playback (playback.ts), documents (documents.ts), export PNG
+// (poses.ts), the parameters and their poses (parameters.ts; the timeline and the swings,
+// timeline.ts and swing.ts, are wired by main.ts and reach the worker through
+// `setMotion`), recording and playback (playback.ts), documents (documents.ts), export PNG
 // (exporter.ts) and video (video.ts), and what `settled()` waits for (settling.ts). The
 // app holds the puppet on screen, installs each new generation the worker makes, and
 // draws the frames.

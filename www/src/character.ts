@@ -15,9 +15,9 @@
 // update of its ~2400 vertices well under the frame's budget (a frame callback's median
 // is about 2 ms in headless Chromium), one per animation frame while a pin moves. The
 // layer readers (ag-psd and pako for PSDs) are loaded only when a character is opened.
-// Pins on a character are position pins; poses, recording, documents and starch or
-// overlap regions are for pictures only (their panel is hidden while a character is
-// shown).
+// Pins on a character are position pins; poses, recording, documents, starch or overlap
+// regions and the motion panels are for pictures only (hidden while a character is shown);
+// a character with a "head" part turns it by a slider, its ear swinging (charactermotion.ts).
 
 import { Character, type Layer, type Puppet } from "../../js/index.js";
 import { CharacterPainter } from "../../js/gl.js";

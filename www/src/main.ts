@@ -1,6 +1,6 @@
 // The demo page: starts the puppet's worker (it loads the wasm module) and the default
-// puppet's download at once, picks a renderer, and wires the stage, the toolbar and the
-// status panel to the app.
+// puppet's download at once, picks a renderer, and wires the stage, the toolbar, the
+// motion panels (parameters, timeline, swings) and the status panel to the app.
 
 import { attachAnimation } from "./animation.js";
 import { App } from "./app.js";
