@@ -114,7 +114,7 @@ export class CharacterStage {
     method: Method,
   ) {
     this.method = method;
-    this.motion = new CharacterMotion(el.motion, () => this.request());
+    this.motion = new CharacterMotion(el.motion, () => this.request(), () => this.positions, (e, context) => this.status.error(e, context));
     // The glue discs listen first: a press on one does not reach the pins.
     this.attachGlue();
     attachPointer(el.canvas, this.board());
@@ -143,11 +143,11 @@ export class CharacterStage {
     if (!this.character) return;
     this.puppet?.free();
     this.painter?.dispose();
-    this.motion.close();
     this.character.free();
     this.puppet = null;
     this.painter = null;
     this.character = null;
+    this.motion.close();
     this.name = null;
     this.pins = [];
     this.selected = null;
@@ -402,6 +402,7 @@ export class CharacterStage {
     let solved = NaN;
     this.frameTimes.push(time);
     if (this.frameTimes.length > 1000) this.frameTimes.splice(0, this.frameTimes.length - 1000);
+    if (this.motion.active) this.solveDue = false; // a slider's pose replaces the pins'
     if (this.solveDue) {
       const t0 = performance.now();
       try {

@@ -11,6 +11,7 @@
 // SWING_FRAMES frames to settle.
 
 import { Player, type Character, type PuppetDocument } from "../../js/index.js";
+import { CharacterParameters } from "./characterparameters.js";
 
 /** Frames shown after the last slider move (the spring settles well within them). */
 const SWING_FRAMES = 480;
@@ -95,23 +96,34 @@ export class CharacterMotion {
   private last = 0;
   /** Frames the player has posed since the slider last moved (for the tests). */
   framesSinceMove = 0;
+  /** The parameters the user adds (the parameter panel's, while a character is shown). */
+  readonly parameters: CharacterParameters;
+  /** Told when the parameters change (the panel redraws). */
+  onParametersChange: () => void = () => {};
 
-  /** `request` asks the character for a frame. */
+  /** `request` asks the character for a frame; `positions` is the pose on screen;
+   *  `error` shows a library error with what was not done. */
   constructor(
     private readonly el: CharacterMotionElements,
     private readonly request: () => void,
+    positions: () => Float64Array,
+    error: (e: unknown, context: string) => void,
   ) {
     el.slider.addEventListener("input", () => this.setHead(Number(el.slider.value)));
+    this.parameters = new CharacterParameters(() => this.onParametersChange(), request, positions, error);
   }
 
-  /** Whether the player's pose is on screen (not the pins'). */
+  /** Whether a slider's pose is (about to be) on screen, not the pins': the head turn's
+   *  or the parameters'. */
   get active(): boolean {
-    return this.framesLeft > 0;
+    return this.framesLeft > 0 || this.parameters.due;
   }
 
-  /** Makes the motion of `character` (none without a head part; throws a library error). */
+  /** Makes the motion of `character` (no head turn without a head part; throws a library
+   *  error). */
   open(character: Character): void {
     this.close();
+    this.parameters.open(character);
     const doc = motionDocument(character);
     if (!doc) return;
     this.player = Player.load(doc);
@@ -125,6 +137,7 @@ export class CharacterMotion {
   }
 
   close(): void {
+    this.parameters.close();
     this.player?.free();
     this.player = null;
     this.framesLeft = 0;
@@ -145,9 +158,10 @@ export class CharacterMotion {
     this.request();
   }
 
-  /** Pins took the pose over: the player's pose is no longer shown. */
+  /** Pins took the pose over: the player's (or the parameters') pose is no longer shown. */
   stop(): void {
     this.framesLeft = 0;
+    this.parameters.due = false;
   }
 
   /** Back to the rest (reset pose): the head straight, the springs at rest. */
@@ -175,6 +189,12 @@ export class CharacterMotion {
   /** Writes the pose at page time `now` (ms) into `positions` while active; returns
    *  whether more frames are wanted. */
   frame(now: number, positions: Float64Array): boolean {
+    if (this.parameters.due) {
+      // A parameter's slider moved: its pose replaces the head turn's.
+      this.framesLeft = 0;
+      this.parameters.poseInto(positions);
+      return false;
+    }
     const player = this.player;
     if (!player || this.framesLeft <= 0) return false;
     player.positionsInto(this.time(now), positions);

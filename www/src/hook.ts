@@ -137,6 +137,8 @@ export interface CharacterHook {
   /** Whether the head turn's pose is on screen (charactermotion.ts), and how many frames it
    *  has posed since the slider last moved. */
   motion(): { active: boolean; framesSinceMove: number };
+  /** The character's own parameters (the parameter panel's while it is shown). */
+  parameters(): ParameterInfo[];
 }
 
 declare global {
@@ -254,6 +256,7 @@ function characterHook(characters: CharacterStage): CharacterHook {
     setDrawOrder: (order) => characters.setDrawOrder(order),
     frames: () => characters.frameRecords.map((r) => ({ ...r })),
     motion: () => ({ active: characters.motion.active, framesSinceMove: characters.motion.framesSinceMove }),
+    parameters: () => characters.motion.parameters.list.map((p) => ({ ...p, keys: [...p.keys], keyforms: [...p.keyforms] })),
     dragFrames: (id, to, frames) =>
       new Promise((resolve) => {
         const pin = characters.pinList().find((p) => p.id === id);

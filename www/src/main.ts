@@ -64,7 +64,7 @@ async function main(status: Status): Promise<void> {
       canvas: element("character-stage", HTMLCanvasElement),
       overlay: element("character-overlay", HTMLCanvasElement),
       // The picture's stage, and the poses and animation, which act on pictures only.
-      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement), element("motion", HTMLElement)],
+      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement), element("motion-timeline", HTMLElement), element("motion-swing", HTMLElement)],
       panel: element("character-panel", HTMLElement),
       order: element("draw-order", HTMLOListElement),
       showGlue: element("show-glue", HTMLInputElement),
@@ -220,8 +220,10 @@ async function main(status: Status): Promise<void> {
       pad: element("parameter-pad", HTMLCanvasElement),
       corrective: element("set-corrective", HTMLButtonElement),
     },
-    theApp.parameters,
+    // A layered character's own parameters while one is shown (characterparameters.ts).
+    () => (characters.active ? characters.motion.parameters : theApp.parameters),
   );
+  characters.motion.onParametersChange = () => renderParameters();
   // The timeline's key tracks and the curve editor's easings are the package's, on this
   // thread: its wasm module loads beside the worker's (not waited for: nothing uses it
   // before the user keys a value or opens a document).

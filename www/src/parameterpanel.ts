@@ -4,8 +4,23 @@
 // button; then a 2D pad over two chosen parameters (x and y set both values) whose
 // "corrective" button keys the pose on screen at the nearest corner of their keys.
 
-import type { Parameters } from "./parameters.js";
-import type { ParameterInfo, ParameterSpec } from "./protocol.js";
+import type { CorrectiveInfo, ParameterInfo, ParameterSpec } from "./protocol.js";
+
+/** What the panel drives: a picture's parameters (parameters.ts, in the worker) or a
+ *  layered character's (characterparameters.ts, on the page). */
+export interface ParameterModel {
+  readonly list: readonly ParameterInfo[];
+  readonly correctives: readonly CorrectiveInfo[];
+  /** Changes with the list (not with the values). */
+  readonly revision: number;
+  value(id: string): number;
+  add(spec: ParameterSpec): Promise<boolean>;
+  remove(id: string): Promise<boolean>;
+  /** Makes the pose on screen the keyform (`clear`: clears it). */
+  setKeyform(id: string, key: number, clear?: boolean): Promise<boolean>;
+  setCorrective(ids: readonly [string, string], at: readonly [number, number], clear?: boolean): Promise<boolean>;
+  setValue(id: string, value: number): void;
+}
 
 export interface ParameterElements {
   /** The form's fields and its submit button. */
@@ -40,8 +55,10 @@ const stepOf = (p: ParameterInfo): number => (p.max - p.min) / 200;
 /** The nearest of `keys` to `v`. */
 export const nearestKey = (keys: readonly number[], v: number): number => keys.reduce((a, b) => (Math.abs(b - v) < Math.abs(a - v) ? b : a));
 
-export function attachParameterPanel(el: ParameterElements, params: Parameters): () => void {
-  let shown = -1;
+/** Wires the panel to the model `current()` gives (the picture's, or the character's
+ *  while one is shown); returns the panel's redraw. */
+export function attachParameterPanel(el: ParameterElements, current: () => ParameterModel): () => void {
+  let shown: { model: ParameterModel; revision: number } | null = null;
   el.form.addEventListener("submit", (e) => {
     e.preventDefault();
     const spec = readSpec({ id: el.id.value, min: el.min.value, max: el.max.value, defaultValue: el.defaultValue.value, keys: el.keys.value });
@@ -51,25 +68,25 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
       return;
     }
     el.id.setCustomValidity("");
-    void params.add(spec).then((ok) => {
+    void current().add(spec).then((ok) => {
       if (ok) el.id.value = "";
     });
   });
   el.list.addEventListener("input", (e) => {
     const input = e.target;
-    if (input instanceof HTMLInputElement && input.dataset.parameter) params.setValue(input.dataset.parameter, Number(input.value));
+    if (input instanceof HTMLInputElement && input.dataset.parameter) current().setValue(input.dataset.parameter, Number(input.value));
   });
   el.list.addEventListener("click", (e) => {
     const button = e.target instanceof HTMLElement ? e.target.closest("button") : null;
     const id = button?.closest("li")?.dataset.parameter;
     if (!button || id === undefined) return;
-    if (button.dataset.remove !== undefined) void params.remove(id);
-    else if (button.dataset.key !== undefined) void params.setKeyform(id, Number(button.dataset.key), e.altKey);
+    if (button.dataset.remove !== undefined) void current().remove(id);
+    else if (button.dataset.key !== undefined) void current().setKeyform(id, Number(button.dataset.key), e.altKey);
   });
 
   // --- the 2D pad ---
   const padPair = (): [ParameterInfo, ParameterInfo] | null => {
-    const x = params.list.find((p) => p.id === el.padX.value), y = params.list.find((p) => p.id === el.padY.value);
+    const x = current().list.find((p) => p.id === el.padX.value), y = current().list.find((p) => p.id === el.padY.value);
     return x && y && x !== y ? [x, y] : null;
   };
   const drawPad = () => {
@@ -86,14 +103,14 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
     for (const k of px.keys) ctx.strokeRect(sx(k), 0, 0, c.height);
     for (const k of py.keys) ctx.strokeRect(0, sy(k), c.width, 0);
     ctx.fillStyle = "#2a6";
-    for (const corr of params.correctives) {
+    for (const corr of current().correctives) {
       if (corr.ids[0] !== px.id || corr.ids[1] !== py.id) continue;
       ctx.fillRect(sx(corr.at[0]) - 4, sy(corr.at[1]) - 4, 8, 8);
     }
     ctx.strokeStyle = "#c33";
     ctx.lineWidth = 2;
     ctx.beginPath();
-    ctx.arc(sx(params.value(px.id)), sy(params.value(py.id)), 6, 0, 2 * Math.PI);
+    ctx.arc(sx(current().value(px.id)), sy(current().value(py.id)), 6, 0, 2 * Math.PI);
     ctx.stroke();
   };
   const padAt = (e: PointerEvent) => {
@@ -102,8 +119,8 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
     const r = el.pad.getBoundingClientRect();
     const u = Math.min(1, Math.max(0, (e.clientX - r.left) / r.width)), w = Math.min(1, Math.max(0, (e.clientY - r.top) / r.height));
     const [px, py] = pair;
-    params.setValue(px.id, px.min + u * (px.max - px.min));
-    params.setValue(py.id, py.max - w * (py.max - py.min));
+    current().setValue(px.id, px.min + u * (px.max - px.min));
+    current().setValue(py.id, py.max - w * (py.max - py.min));
   };
   el.pad.addEventListener("pointerdown", (e) => {
     el.pad.setPointerCapture(e.pointerId);
@@ -118,14 +135,15 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
     const pair = padPair();
     if (!pair) return;
     const [px, py] = pair;
-    const at: [number, number] = [nearestKey(px.keys, params.value(px.id)), nearestKey(py.keys, params.value(py.id))];
-    void params.setCorrective([px.id, py.id], at);
+    const at: [number, number] = [nearestKey(px.keys, current().value(px.id)), nearestKey(py.keys, current().value(py.id))];
+    void current().setCorrective([px.id, py.id], at);
   });
 
   return () => {
-    const list = params.list;
-    if (params.revision !== shown) {
-      shown = params.revision;
+    const list = current().list;
+    const model = current();
+    if (shown?.model !== model || shown.revision !== model.revision) {
+      shown = { model, revision: model.revision };
       el.list.replaceChildren(...list.map((p) => parameterItem(p)));
       for (const select of [el.padX, el.padY]) {
         const chosen = select.value;
@@ -138,7 +156,7 @@ export function attachParameterPanel(el: ParameterElements, params: Parameters):
     }
     for (const p of list) {
       const li = el.list.querySelector<HTMLLIElement>(`li[data-parameter="${CSS.escape(p.id)}"]`);
-      const v = params.value(p.id);
+      const v = current().value(p.id);
       const slider = li?.querySelector<HTMLInputElement>("input[type=range]");
       if (slider && Number(slider.value) !== v && document.activeElement !== slider) slider.value = String(v);
       const out = li?.querySelector("output");
