@@ -8,7 +8,9 @@
 // The parts, each in its module and each given what it needs (context.ts): opening
 // pictures and remeshing them as new generations (opening.ts), solves and the flip count
 // (solving.ts), the pins and regions (board.ts), the saved poses and their blends
-// (poses.ts), recording and playback (playback.ts), documents (documents.ts), export PNG
+// (poses.ts), the parameters and their poses (parameters.ts; the timeline and the swings,
+// timeline.ts and swing.ts, are wired by main.ts and reach the worker through
+// `setMotion`), recording and playback (playback.ts), documents (documents.ts), export PNG
 // (exporter.ts) and video (video.ts), and what `settled()` waits for (settling.ts). The
 // app holds the puppet on screen, installs each new generation the worker makes, and
 // draws the frames.
@@ -25,10 +27,11 @@ import { exportWithOverlays, rigFrame } from "./exporter.js";
 import { FrameLoop, type SolveStamp } from "./frames.js";
 import { Opening, type PinFractions, type Wording } from "./opening.js";
 import type { Overlay } from "./overlay.js";
+import { Parameters } from "./parameters.js";
 import type { Picture } from "./picture.js";
 import { Playback } from "./playback.js";
 import { Poses } from "./poses.js";
-import { toError, type Method, type OpenResult } from "./protocol.js";
+import { toError, type ChannelData, type Method, type MotionState, type OpenResult, type Swing } from "./protocol.js";
 import { Regions } from "./regions.js";
 import { showMesh, type PictureRenderer } from "./renderer.js";
 import { Rig } from "./rig.js";
@@ -68,6 +71,16 @@ export class App {
   onAnimationChange: () => void = () => {};
   /** Told when a picture opened at its full detail sets the detail (the slider shows it). */
   onDetailChange: (vertices: number) => void = () => {};
+  /** Told when the parameters, keys or swings change, or playback moves (the motion
+   *  panels redraw). */
+  onMotionChange: () => void = () => {};
+  /** The parameters of the picture on screen (parameters.ts). */
+  readonly parameters: Parameters;
+  /** Told when a new puppet is on screen with its motion (none for a picture, an opened
+   *  document's): the timeline and the swings take theirs. */
+  onMotionRestored: (state: MotionState | null) => void = () => {};
+  /** Told the time of every frame of playback shown. */
+  onPlayFrame: (t: number) => void = () => {};
 
   private rig: Rig | null = null;
   /** Whether the worker holds `rig`'s generation (not after a crash, until it is rebuilt). */
@@ -129,8 +142,11 @@ export class App {
     this.solver = new Solver(context, this.simulation, () => this.board.dragging);
     this.board = new Board(context, { view: this.view, regions: this.regions, renderer: this.renderer, solver: this.solver, endPlayback });
     this.playback = new Playback(context, this.solver, changed);
+    this.playback.onFrame = (t) => this.onPlayFrame(t);
     this.poseSet = new Poses(context, this.solver, endPlayback, changed);
-    this.documents = new Documents(context, { opening: this.opening, poses: this.poseSet, playback: this.playback, install, changed });
+    this.parameters = new Parameters(context, this.solver, endPlayback, () => this.onMotionChange());
+    const restoreMotion = (state: MotionState) => this.restoreMotion(state);
+    this.documents = new Documents(context, { opening: this.opening, poses: this.poseSet, playback: this.playback, install, changed, restoreMotion });
     this.status.renderer(this.renderer.name);
     this.status.pins(0);
   }
@@ -315,6 +331,30 @@ export class App {
     return this.playback.play();
   }
 
+  /** Plays the animation from `from` seconds; resolves when it ends. */
+  playFrom(from: number): Promise<void> {
+    return this.playback.play(from);
+  }
+
+  /** Shows the animation's frame at `t` seconds (a scrub). */
+  seek(t: number): Promise<void> {
+    return this.playback.play(0, t);
+  }
+
+  /** Gives the worker the timeline's channels and length (s) and the swings (`tick`: the
+   *  springs' rate, Hz); a refused swing is shown with the library's error. Resolves to
+   *  whether they were taken. */
+  async setMotion(channels: readonly ChannelData[], swings: readonly Swing[], duration: number, tick = 120): Promise<boolean> {
+    const rig = this.rig;
+    if (!rig || !this.live) return false;
+    this.settling.begin();
+    const answer = await this.worker.call("setMotion", { generation: rig.generation, channels, swings, tick, duration });
+    this.settling.end();
+    this.settling.check();
+    if (answer.status === "error" && rig === this.rig) this.status.error(answer.error, "the swings were not set");
+    return answer.status === "ok";
+  }
+
   /** Stops playback where it is. */
   endPlayback(): void {
     this.playback.end();
@@ -337,6 +377,22 @@ export class App {
 
   // --- internals ---
 
+  /** Takes the motion of generation `from` (replaced by `rig`, a remesh) onto `rig`. */
+  private async adoptMotion(rig: Rig, from: number): Promise<void> {
+    this.settling.begin();
+    const answer = await this.worker.call("adoptMotion", { generation: rig.generation, from });
+    this.settling.end();
+    if (answer.status === "ok" && answer.result.state && rig === this.rig) this.restoreMotion(answer.result.state);
+    else if (answer.status === "error" && rig === this.rig) this.status.error(answer.error, "the parameters were not kept");
+    this.settling.check();
+  }
+
+  /** The motion of the puppet on screen: none, or an opened document's. */
+  private restoreMotion(state: MotionState | null): void {
+    this.parameters.replace(state);
+    this.onMotionRestored(state);
+  }
+
   /** Puts generation `opened` of `picture` on screen, in place of the puppet shown. */
   private install(picture: Picture, opened: OpenResult, wording: Wording): void {
     const rig = new Rig(picture, opened);
@@ -345,10 +401,15 @@ export class App {
     showMesh(this.renderer, rig);
     this.overlay.setEdges(rig.edges);
     this.regions.adopt(rig.rest, rig.triangles, opened.regions);
+    // A remesh of the same picture (detail, method) keeps the motion: asked for before the
+    // old generation is released (the worker answers in order).
+    const adopt = old && this.live && old.picture === picture ? old.generation : null;
+    if (adopt !== null) void this.adoptMotion(rig, adopt);
     if (old && this.live) this.opening.release(old.generation);
     this.rig = rig;
     this.live = true;
     this.poseSet.replace([]);
+    this.restoreMotion(null);
     this.playback.reset();
     this.onAnimationChange();
     this.board.selected = null;
@@ -382,7 +443,7 @@ export class App {
    *  blends, playback frames, solves, flip counts. */
   private quiet(): boolean {
     const live = this.live && this.rig !== null;
-    return this.poseSet.idle() && this.playback.idle() && this.solver.idle(live);
+    return this.poseSet.idle() && this.parameters.idle() && this.playback.idle() && this.solver.idle(live);
   }
 
   private fit(): void {

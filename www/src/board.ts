@@ -34,6 +34,8 @@ export interface BoardParts {
 
 export class Board implements PinBoard {
   selected: number | null = null;
+  /** Told when the worker has compiled a new pin set (the swings go again, by index). */
+  pinsCompiled: () => void = () => {};
   /** What pressing the shape does, and the kind of the pins it adds. */
   tool: Tool = "pin";
   pinKind: PinKind = "position";
@@ -230,7 +232,10 @@ export class Board implements PinBoard {
     this.app.settling.begin();
     void this.app.worker.call("compile", { generation: rig.generation, version, handles, kinds }).then((answer) => {
       this.app.settling.end();
-      if (answer.status === "ok") rig.confirm(version);
+      if (answer.status === "ok") {
+        rig.confirm(version);
+        if (rig === this.app.rig) this.pinsCompiled();
+      }
       else {
         const reverted = rig.reject(version);
         if (answer.status === "error" && rig === this.app.rig) {

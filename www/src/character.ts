@@ -15,9 +15,9 @@
 // update of its ~2400 vertices well under the frame's budget (a frame callback's median
 // is about 2 ms in headless Chromium), one per animation frame while a pin moves. The
 // layer readers (ag-psd and pako for PSDs) are loaded only when a character is opened.
-// Pins on a character are position pins; poses, recording, documents and starch or
-// overlap regions are for pictures only (their panel is hidden while a character is
-// shown).
+// Pins on a character are position pins; poses, recording, documents, starch or overlap
+// regions and the motion panels are for pictures only (hidden while a character is shown);
+// a character with a "head" part turns it by a slider, its ear swinging (charactermotion.ts).
 
 import { Character, type Layer, type Puppet } from "../../js/index.js";
 import { CharacterPainter } from "../../js/gl.js";
@@ -30,6 +30,8 @@ import { loadWasm, readFiles, readURL } from "./characterfiles.js";
 import { attachGlueEditor, type Disc, type GlueDrag } from "./characterglue.js";
 import { drawOverlay } from "./characteroverlay.js";
 import { renderOrderPanel } from "./characterpanel.js";
+import { CharacterMotion, type CharacterMotionElements } from "./charactermotion.js";
+import { restPointAt } from "./characterpick.js";
 
 export { layeredFiles, SAMPLE_CHARACTER } from "./characterfiles.js";
 
@@ -58,6 +60,8 @@ export interface CharacterElements {
   panel: HTMLElement;
   order: HTMLOListElement;
   showGlue: HTMLInputElement;
+  /** The head-turn slider (charactermotion.ts). */
+  motion: CharacterMotionElements;
 }
 
 export class CharacterStage {
@@ -101,6 +105,8 @@ export class CharacterStage {
   glueSets = 0;
   /** The pin Delete removes: the last one pressed. */
   selected: number | null = null;
+  /** The head turn and the ear's swing (charactermotion.ts). */
+  readonly motion: CharacterMotion;
 
   constructor(
     private readonly el: CharacterElements,
@@ -108,6 +114,7 @@ export class CharacterStage {
     method: Method,
   ) {
     this.method = method;
+    this.motion = new CharacterMotion(el.motion, () => this.request(), () => this.positions, (e, context) => this.status.error(e, context));
     // The glue discs listen first: a press on one does not reach the pins.
     this.attachGlue();
     attachPointer(el.canvas, this.board());
@@ -140,6 +147,7 @@ export class CharacterStage {
     this.puppet = null;
     this.painter = null;
     this.character = null;
+    this.motion.close();
     this.name = null;
     this.pins = [];
     this.selected = null;
@@ -166,6 +174,7 @@ export class CharacterStage {
 
   resetPose(): void {
     for (const p of this.pins) p.target = [...p.rest];
+    this.motion.reset();
     this.puppet?.reset();
     this.solve();
   }
@@ -307,6 +316,11 @@ export class CharacterStage {
     this.fit();
     this.rebuild();
     this.renderPanel();
+    try {
+      this.motion.open(character);
+    } catch (e) {
+      this.status.error(e, `${name}: no head turn`);
+    }
     warnings.push(...character.warnings);
     if (warnings.length) this.status.info(`${name}: ${parts.length} parts. ${warnings.join(" ")}`);
     else this.status.info(`${name}: ${parts.length} parts; press a part to pin it, drag the glue discs' centres or rims`);
@@ -366,6 +380,7 @@ export class CharacterStage {
   }
 
   private solve(): void {
+    this.motion.stop(); // the pins take the pose over
     this.solveDue = true;
     if (this.dragged.size === 0) this.flipsDue = true;
     this.idleUpdates = 0;
@@ -387,6 +402,7 @@ export class CharacterStage {
     let solved = NaN;
     this.frameTimes.push(time);
     if (this.frameTimes.length > 1000) this.frameTimes.splice(0, this.frameTimes.length - 1000);
+    if (this.motion.active) this.solveDue = false; // a slider's pose replaces the pins'
     if (this.solveDue) {
       const t0 = performance.now();
       try {
@@ -399,13 +415,20 @@ export class CharacterStage {
       // The injective method refines over idle frames until it converges.
       this.solveDue = this.pins.length > 0 && !puppet.converged && ++this.idleUpdates < IDLE_UPDATES;
     }
+    let moving = false;
+    try {
+      moving = this.motion.frame(time, this.positions);
+    } catch (e) {
+      this.motion.stop();
+      this.status.error(e);
+    }
     painter.draw(this.positions, this.view.deviceTransform(this.size.dpr));
     this.drawOverlay();
     this.frameRecords.push({ time, solveMs: solved, workMs: performance.now() - start });
     if (this.frameRecords.length > 1000) this.frameRecords.splice(0, this.frameRecords.length - 1000);
     const recent = this.frameTimes.filter((t) => t > time - 1000).length;
     this.status.timings(this.solveMs, recent > 1 ? recent : null, () => ({ solveMs: this.solveMs, fps: null }));
-    if (this.solveDue) this.request();
+    if (this.solveDue || moving) this.request();
     else {
       if (this.flipsDue) this.measureFlips();
       for (const resolve of this.waiting.splice(0)) resolve();
@@ -463,30 +486,10 @@ export class CharacterStage {
     return this.view.toStage(...(at ?? g.at));
   }
 
-  /** The rest point (and part) under stage point (x, y): the topmost part, in the draw
-   *  order, whose posed triangles hold it and whose opaque pixels hold its rest point
-   *  (`character.pick`); else the topmost part whose mesh holds it. */
+  /** The rest point (and part) under stage point (x, y) (characterpick.ts). */
   private restAt(x: number, y: number, only?: number): { rest: [number, number]; part: number } | null {
     const c = this.character;
-    if (!c) return null;
-    const [px, py] = this.view.toPicture(x, y);
-    const t = this.drawTriangles, pos = this.positions, rest = this.rest;
-    const found: { rest: [number, number]; part: number }[] = [];
-    for (let i = t.length - 3; i >= 0; i -= 3) {
-      const part = this.partOf[t[i]!]!;
-      if (only !== undefined && part !== only) continue;
-      if (found.some((f) => f.part === part)) continue;
-      const a = 2 * t[i]!, b = 2 * t[i + 1]!, d = 2 * t[i + 2]!;
-      const bx = pos[b]! - pos[a]!, by = pos[b + 1]! - pos[a + 1]!, cx = pos[d]! - pos[a]!, cy = pos[d + 1]! - pos[a + 1]!;
-      const qx = px - pos[a]!, qy = py - pos[a + 1]!;
-      const det = bx * cy - by * cx;
-      if (det === 0) continue;
-      const u = (qx * cy - qy * cx) / det, v = (bx * qy - by * qx) / det;
-      if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9) continue;
-      const w = 1 - u - v;
-      found.push({ rest: [w * rest[a]! + u * rest[b]! + v * rest[d]!, w * rest[a + 1]! + u * rest[b + 1]! + v * rest[d + 1]!], part });
-    }
-    return found.find((f) => c.pick(...f.rest)?.part === f.part) ?? found[0] ?? null;
+    return c ? restPointAt(c, { positions: this.positions, rest: this.rest, triangles: this.drawTriangles, partOf: this.partOf }, this.view.toPicture(x, y), only) : null;
   }
 
   /** The pins as pointer.ts drives them. */

@@ -39,7 +39,8 @@ export class PuppetWorker {
   /** Requests in flight, by kind (for the test hook). */
   inFlight(): Record<Kind, number> {
     const counts: Record<Kind, number> = { open: 0, compile: 0, update: 0, release: 0, reset: 0, starch: 0, overlap: 0, quality: 0, simulation: 0, crash: 0,
-      savePose: 0, removePose: 0, blend: 0, record: 0, play: 0, playFrame: 0, document: 0, loadDocument: 0 };
+      savePose: 0, removePose: 0, blend: 0, record: 0, play: 0, playFrame: 0, document: 0, loadDocument: 0,
+      addParameter: 0, removeParameter: 0, setKeyform: 0, setCorrective: 0, parameterPose: 0, setMotion: 0, adoptMotion: 0 };
     for (const p of this.pending.values()) counts[p.kind]++;
     return counts;
   }

@@ -7,7 +7,7 @@ import type { Opening, Wording } from "./opening.js";
 import { pictureDataURL, pictureFromURL, type Picture } from "./picture.js";
 import type { Playback } from "./playback.js";
 import type { Poses } from "./poses.js";
-import type { DocumentData, OpenResult } from "./protocol.js";
+import type { DocumentData, MotionState, OpenResult } from "./protocol.js";
 import { newVersion } from "./rig.js";
 
 /** What documents need besides the app's context. */
@@ -19,6 +19,8 @@ export interface DocumentParts {
   readonly install: (picture: Picture, opened: OpenResult, wording: Wording) => void;
   /** Told when the poses change. */
   readonly changed: () => void;
+  /** Gives the panels an opened document's parameters, channels and swings. */
+  readonly restoreMotion: (state: MotionState) => void;
 }
 
 export class Documents {
@@ -42,6 +44,7 @@ export class Documents {
       if (answer.status === "error") this.app.status.error(answer.error, "could not save the document");
       return null;
     }
+    if (answer.result.note) this.app.status.info(answer.result.note);
     return JSON.stringify(answer.result.document);
   }
 
@@ -86,6 +89,7 @@ export class Documents {
       playback.loop = answer.result.loop;
       this.parts.install(picture, answer.result.opened, { refitted: `${name}: its pins do not fit; pinned automatically` });
       poses.replace(answer.result.poses);
+      this.parts.restoreMotion(answer.result.motion);
       this.parts.changed();
     } finally {
       this.app.settling.end();

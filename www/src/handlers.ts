@@ -3,10 +3,11 @@
 
 import { Blender, Player, Track } from "../../js/index.js";
 import { meshEdges } from "./edges.js";
-import { compilePins, copyRegion, freeHeld, held, own, stale, stats } from "./held.js";
+import { compilePins, copyRegion, freeHeld, held, own, stale, stats, type Held } from "./held.js";
 import { attempt, type Outcome } from "./outcome.js";
-import type { Calls, DocumentData, Kind } from "./protocol.js";
+import type { Calls, DocumentData, Kind, MotionResult } from "./protocol.js";
 import { documentOf, loadDocument } from "./puppetdocument.js";
+import { addParameter, adoptMotion, motionOf, motionResult, parameterPose, pinsChanged, removeParameter, setCorrective, setKeyform, setMotion, swing, type MotionHeld } from "./motion.js";
 import { keyframe, recordSample } from "./recording.js";
 import { open } from "./registering.js";
 
@@ -24,6 +25,7 @@ export const handlers: Handlers = {
     rig.version = version;
     rig.pins = { rests: handles.slice(), kinds: [...kinds] };
     if (rig.recording && rig.track?.pinCount !== kinds.length) rig.recording = false; // another pin set: the track ends
+    pinsChanged(rig); // the page sends the swings for the new set
     return { result: { generation, version, compileMs: performance.now() - t0 }, transfer: [] };
   },
 
@@ -33,14 +35,17 @@ export const handlers: Handlers = {
     if (rig.version !== version) return { dropped: `pin set ${version} is not compiled (${rig.version} is)` };
     if (rig.recording && time !== undefined) recordSample(rig, time, targets, rotations);
     const t0 = performance.now();
-    rig.puppet.updateInto(targets, out, rotations);
+    // Secondary pins swing about where their roots carry them (motion.ts).
+    const swinging = swing(rig, time, targets, rotations);
+    if (swinging !== null && rig.motion) rig.puppet.updateInto(rig.motion.swungTargets, out, rig.motion.swungRotations);
+    else rig.puppet.updateInto(targets, out, rotations);
     const solveMs = performance.now() - t0;
     if (rig.recording && time !== undefined) keyframe(rig, time, out);
     const pinPositions = own(rig.puppet.pinPositions);
     const simulationPositions = simulation ? own(rig.puppet.simulationPositions) : null;
     const transfer: Transferable[] = [out.buffer, pinPositions.buffer];
     if (simulationPositions) transfer.push(simulationPositions.buffer);
-    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs), simulationPositions }, transfer };
+    return { result: { generation, version, positions: out, pinPositions, stats: stats(rig.puppet, solveMs, swinging ?? false), simulationPositions }, transfer };
   },
 
   simulation({ generation }) {
@@ -162,7 +167,7 @@ export const handlers: Handlers = {
     rig.recording = false;
     // The page loops (it asks for times modulo the duration, and for the last frame once
     // the loop is switched off): the player itself never wraps.
-    rig.player ??= Player.load(rig.document ? { ...rig.document, loop: false } : documentOf(rig, null, false));
+    rig.player ??= Player.load(rig.document ? { ...rig.document, loop: false } : documentOf(rig, null, false).document);
     // The first frame (from the rest shape to the first sample, the costliest for the
     // injective method) now, before the page's clock starts.
     rig.player.positionsInto(0, new Float64Array(2 * rig.player.vertexCount));
@@ -192,10 +197,68 @@ export const handlers: Handlers = {
   document({ generation, picture, loop }) {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
-    const base = rig.document ? { ...rig.document, picture: rig.document.picture ?? picture, loop } : documentOf(rig, picture, loop);
+    const { document: base, note } = rig.document ? { document: { ...rig.document, picture: rig.document.picture ?? picture, loop }, note: null } : documentOf(rig, picture, loop);
     // Through JSON: plain arrays and objects only, as a file holds them.
-    return { result: { document: JSON.parse(JSON.stringify(base)) as DocumentData }, transfer: [] };
+    return { result: { document: JSON.parse(JSON.stringify(base)) as DocumentData, note }, transfer: [] };
   },
 
   loadDocument,
+
+  addParameter({ generation, parameter }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    return motionChanged(generation, rig, addParameter(rig, parameter));
+  },
+
+  removeParameter({ generation, id }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    return motionChanged(generation, rig, removeParameter(rig, id));
+  },
+
+  setKeyform({ generation, id, key, positions }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    return motionChanged(generation, rig, setKeyform(rig, id, key, positions));
+  },
+
+  setCorrective({ generation, ids, at, positions }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    return motionChanged(generation, rig, setCorrective(rig, ids, at, positions));
+  },
+
+  parameterPose({ generation, values, out }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (!rig.motion?.rig) return { dropped: "no parameters" };
+    const t0 = performance.now();
+    parameterPose(rig.motion, values, out);
+    return { result: { generation, positions: out, ms: performance.now() - t0 }, transfer: [out.buffer] };
+  },
+
+  setMotion({ generation, channels, swings, tick, duration }) {
+    const rig = held.get(generation);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    setMotion(rig, channels, swings, tick, duration);
+    motionChanged(generation, rig, motionOf(rig));
+    return { result: { generation }, transfer: [] };
+  },
+
+  adoptMotion({ generation, from }) {
+    const rig = held.get(generation);
+    const old = held.get(from);
+    if (!rig) return { dropped: `generation ${generation} is gone` };
+    if (!old) return { result: { state: null }, transfer: [] };
+    const state = adoptMotion(rig, old);
+    if (state) motionChanged(generation, rig, motionOf(rig));
+    return { result: { state }, transfer: [] };
+  },
 };
+
+/** What plays and what a document holds changed with the motion. */
+function motionChanged(generation: number, rig: Held, motion: MotionHeld): Outcome<MotionResult> {
+  rig.player = stale(rig.player);
+  rig.document = null;
+  return { result: motionResult(generation, motion), transfer: [] };
+}

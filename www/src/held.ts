@@ -3,6 +3,7 @@
 // that act on a held puppet: compiling pins, applying regions, owned copies of its arrays.
 
 import type { Blender, Player, Puppet, PuppetDocument, SimulationMesh, Track } from "../../js/index.js";
+import type { MotionHeld } from "./motion.js";
 import { attempt } from "./outcome.js";
 import type { ErrorInfo, OpenBody, PinArrays, Regions, SolveStats } from "./protocol.js";
 
@@ -43,6 +44,8 @@ export interface Held {
   player: Player | null;
   /** The opened document, played as it is until something is recorded. */
   document: PuppetDocument | null;
+  /** Parameters, channels and swings (motion.ts), made on first use. */
+  motion: MotionHeld | null;
 }
 
 /** Frees what `rig` holds (nothing for none). */
@@ -52,6 +55,8 @@ export function freeHeld(rig: Held | undefined): void {
   rig.blender?.free();
   rig.track?.free();
   rig.player?.free();
+  rig.motion?.rig?.free();
+  rig.motion?.dynamics?.free();
 }
 
 /** One puppet per generation the page has not released. */
@@ -70,8 +75,8 @@ export function own<T extends Float64Array | Float32Array | Uint32Array>(array: 
   return whole ? array : (array.slice() as T);
 }
 
-export function stats(puppet: Puppet, solveMs: number): SolveStats {
-  return { solveMs, converged: puppet.converged, lag: puppet.lag };
+export function stats(puppet: Puppet, solveMs: number, swinging = false): SolveStats {
+  return { solveMs, converged: puppet.converged, lag: puppet.lag, swinging };
 }
 
 /** Compiles `pins` on `puppet` (throws a library error, the previous set kept). */

@@ -12,7 +12,9 @@ import type { FrameRecord } from "./frames.js";
 import type { Overlay } from "./overlay.js";
 import { anchorAt, follow } from "./locate.js";
 import { pictureFromURL } from "./picture.js";
-import type { Method, OverlapRegion, PinKind, StarchRegion } from "./protocol.js";
+import type { Swings } from "./swing.js";
+import type { ChannelData, Swing, Method, OverlapRegion, ParameterInfo, ParameterSpec, PinKind, StarchRegion } from "./protocol.js";
+import type { Timeline } from "./timeline.js";
 
 /** A pin as the tests see it: its target (x, y, what a drag moves) and where its material
  *  is drawn, in viewport CSS pixels; its kind and turn. */
@@ -73,6 +75,34 @@ export interface DemoHook {
   playsEnded(): number;
   /** The layered character (character.ts). */
   character: CharacterHook;
+  /** The parameters, timeline and swings of the picture on screen (issue 25). */
+  motion: MotionHook;
+}
+
+/** The motion tools as the tests see them. */
+export interface MotionHook {
+  /** The parameters (with which keys have keyforms) and their values on the page. */
+  parameters(): ParameterInfo[];
+  values(): Record<string, number>;
+  addParameter(spec: ParameterSpec): Promise<boolean>;
+  /** Makes the pose on screen parameter `id`'s keyform at `key`. */
+  setKeyform(id: string, key: number): Promise<boolean>;
+  /** Moves parameter `id`'s slider (as its input event does). */
+  setValue(id: string, value: number): void;
+  /** The timeline: its channels (as a document holds them), the playhead, the selected
+   *  key, a scrub to `t` (resolves once that frame is shown), and the value keyed
+   *  parameter `id` takes at `t` (`keyTrack.valueInto`). */
+  channels(): ChannelData[];
+  time(): number;
+  selectedKey(): { id: string; index: number } | null;
+  seek(t: number): Promise<void>;
+  valueAt(id: string, t: number): number | null;
+  /** The swings as the worker gets them (pins by index). */
+  swings(): Swing[];
+  /** The document "Save document" downloads (its JSON text), or null. */
+  saveDocument(): Promise<string | null>;
+  /** Opens a document's JSON text as "Open document…" does; resolves to whether it opened. */
+  openDocument(text: string, name: string): Promise<boolean>;
 }
 
 /** The layered character as the tests see it; points in viewport CSS pixels unless said. */
@@ -104,6 +134,11 @@ export interface CharacterHook {
   dragFrames(id: number, to: [number, number], frames: number): Promise<number[]>;
   /** The character's recent frames: rAF timestamp, update and whole-callback times (ms). */
   frames(): { time: number; solveMs: number; workMs: number }[];
+  /** Whether the head turn's pose is on screen (charactermotion.ts), and how many frames it
+   *  has posed since the slider last moved. */
+  motion(): { active: boolean; framesSinceMove: number };
+  /** The character's own parameters (the parameter panel's while it is shown). */
+  parameters(): ParameterInfo[];
 }
 
 declare global {
@@ -112,7 +147,7 @@ declare global {
   }
 }
 
-export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage): void {
+export function exposeHook(app: App, stage: HTMLElement, renderer: string, worker: PuppetWorker, overlay: Overlay, characters: CharacterStage, timeline: Timeline, swings: Swings): void {
   const toClient = (x: number, y: number): [number, number] => {
     const r = stage.getBoundingClientRect();
     const [sx, sy] = app.view.toStage(x, y);
@@ -167,6 +202,25 @@ export function exposeHook(app: App, stage: HTMLElement, renderer: string, worke
     playing: () => app.playing,
     playsEnded: () => app.playsEnded,
     character: characterHook(characters),
+    motion: {
+      parameters: () => app.parameters.list.map((p) => ({ ...p, keys: [...p.keys], keyforms: [...p.keyforms] })),
+      values: () => Object.fromEntries(app.parameters.list.map((p) => [p.id, app.parameters.value(p.id)])),
+      addParameter: (spec) => app.parameters.add(spec),
+      setKeyform: (id, key) => app.parameters.setKeyform(id, key),
+      setValue: (id, value) => app.parameters.setValue(id, value),
+      channels: () => JSON.parse(JSON.stringify(timeline.channels())) as ChannelData[],
+      time: () => timeline.time,
+      selectedKey: () => (timeline.selected ? { ...timeline.selected } : null),
+      seek: async (t) => {
+        timeline.time = t;
+        await app.seek(t);
+        await app.settled();
+      },
+      valueAt: (id, t) => timeline.valueAt(id, t),
+      swings: () => JSON.parse(JSON.stringify(swings.forWorker(app.current?.rig ?? null))) as Swing[],
+      saveDocument: () => app.documentJSON(),
+      openDocument: (text, name) => app.openDocument(text, name),
+    },
   };
 }
 
@@ -201,6 +255,8 @@ function characterHook(characters: CharacterStage): CharacterHook {
     },
     setDrawOrder: (order) => characters.setDrawOrder(order),
     frames: () => characters.frameRecords.map((r) => ({ ...r })),
+    motion: () => ({ active: characters.motion.active, framesSinceMove: characters.motion.framesSinceMove }),
+    parameters: () => characters.motion.parameters.list.map((p) => ({ ...p, keys: [...p.keys], keyforms: [...p.keyforms] })),
     dragFrames: (id, to, frames) =>
       new Promise((resolve) => {
         const pin = characters.pinList().find((p) => p.id === id);

@@ -1,6 +1,6 @@
 // The demo page: starts the puppet's worker (it loads the wasm module) and the default
-// puppet's download at once, picks a renderer, and wires the stage, the toolbar and the
-// status panel to the app.
+// puppet's download at once, picks a renderer, and wires the stage, the toolbar, the
+// motion panels (parameters, timeline, swings) and the status panel to the app.
 
 import { attachAnimation } from "./animation.js";
 import { App } from "./app.js";
@@ -11,6 +11,10 @@ import { exposeHook } from "./hook.js";
 import { Overlay } from "./overlay.js";
 import { DEFAULT_PUPPET, pictureFromFile, pictureFromURL } from "./picture.js";
 import { attachPointer } from "./pointer.js";
+import { loadWasm } from "./characterfiles.js";
+import { attachParameterPanel } from "./parameterpanel.js";
+import { Swings } from "./swing.js";
+import { Timeline } from "./timeline.js";
 import { METHODS, PIN_KINDS } from "./protocol.js";
 import { createRenderer } from "./renderer.js";
 import { Status } from "./status.js";
@@ -60,10 +64,11 @@ async function main(status: Status): Promise<void> {
       canvas: element("character-stage", HTMLCanvasElement),
       overlay: element("character-overlay", HTMLCanvasElement),
       // The picture's stage, and the poses and animation, which act on pictures only.
-      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement)],
+      pictureLayers: [stage, element("overlay", HTMLCanvasElement), element("animation", HTMLElement), element("motion-timeline", HTMLElement), element("motion-swing", HTMLElement)],
       panel: element("character-panel", HTMLElement),
       order: element("draw-order", HTMLOListElement),
       showGlue: element("show-glue", HTMLInputElement),
+      motion: { field: element("character-motion", HTMLElement), slider: element("head-turn", HTMLInputElement), output: element("head-turn-value", HTMLOutputElement) },
     },
     status,
     method,
@@ -201,8 +206,104 @@ async function main(status: Status): Promise<void> {
   );
   theApp.onAnimationChange = () => refresh({ poseCount: theApp.poses.length, recording: theApp.recording, playing: theApp.playing, loop: theApp.loop });
   theApp.onAnimationChange();
+  const renderParameters = attachParameterPanel(
+    {
+      form: element("parameter-form", HTMLFormElement),
+      id: element("parameter-id", HTMLInputElement),
+      min: element("parameter-min", HTMLInputElement),
+      max: element("parameter-max", HTMLInputElement),
+      defaultValue: element("parameter-default", HTMLInputElement),
+      keys: element("parameter-keys", HTMLInputElement),
+      list: element("parameter-list", HTMLOListElement),
+      padX: element("pad-x", HTMLSelectElement),
+      padY: element("pad-y", HTMLSelectElement),
+      pad: element("parameter-pad", HTMLCanvasElement),
+      corrective: element("set-corrective", HTMLButtonElement),
+    },
+    // A layered character's own parameters while one is shown (characterparameters.ts).
+    () => (characters.active ? characters.motion.parameters : theApp.parameters),
+  );
+  characters.motion.onParametersChange = () => renderParameters();
+  // The timeline's key tracks and the curve editor's easings are the package's, on this
+  // thread: its wasm module loads beside the worker's (not waited for: nothing uses it
+  // before the user keys a value or opens a document).
+  loadWasm().catch((e: unknown) => status.error(e, "the timeline cannot key values"));
+  const timeline = new Timeline(
+    {
+      play: element("timeline-play", HTMLButtonElement),
+      time: element("timeline-time", HTMLOutputElement),
+      duration: element("timeline-duration", HTMLInputElement),
+      strip: element("timeline", HTMLCanvasElement),
+      parameter: element("timeline-parameter", HTMLSelectElement),
+      key: element("timeline-key", HTMLButtonElement),
+      remove: element("timeline-delete", HTMLButtonElement),
+      ease: element("timeline-ease", HTMLSelectElement),
+      curve: element("curve", HTMLCanvasElement),
+    },
+    theApp.parameters,
+    {
+      play: (from) => void theApp.playFrom(from),
+      stop: () => theApp.endPlayback(),
+      seek: (t) => {
+        if (timeline.channels().length > 0) void theApp.seek(t);
+      },
+      playing: () => theApp.playing,
+      changed: () => void syncMotion(),
+    },
+  );
+  const swings = new Swings(
+    {
+      frequency: element("swing-frequency", HTMLInputElement),
+      damping: element("swing-damping", HTMLInputElement),
+      inertia: element("swing-inertia", HTMLInputElement),
+      gravity: element("swing-gravity", HTMLInputElement),
+      limit: element("swing-limit", HTMLInputElement),
+      mix: element("swing-mix", HTMLInputElement),
+      swingPin: element("swing-pin", HTMLButtonElement),
+      parameter: element("swing-parameter", HTMLSelectElement),
+      input: element("swing-input", HTMLSelectElement),
+      addParameter: element("swing-parameter-add", HTMLButtonElement),
+      list: element("swing-list", HTMLOListElement),
+    },
+    {
+      rig: () => theApp.current?.rig ?? null,
+      selectedPin: () => theApp.board.selected,
+      parameters: theApp.parameters,
+      changed: () => void syncMotion(),
+      say: (text) => status.info(text),
+    },
+  );
+  /** The springs' tick: an opened document's, else 120 Hz. */
+  let tick = 120;
+  const syncMotion = () => theApp.setMotion(timeline.channels(), swings.forWorker(theApp.current?.rig ?? null), timeline.duration, tick);
+  // A new pin set: the pin springs are made again for it.
+  theApp.board.pinsCompiled = () => {
+    if (!swings.swingsPins) return;
+    void syncMotion();
+    swings.render();
+  };
+  theApp.onMotionChange = () => {
+    renderParameters();
+    timeline.parametersChanged();
+    swings.render();
+  };
+  theApp.onMotionRestored = (state) => {
+    tick = state?.tick ?? 120;
+    timeline.restore(state?.channels ?? null, state?.duration ?? null);
+    swings.restore(state?.swings ?? null, theApp.current?.rig ?? null);
+  };
+  theApp.onPlayFrame = (t) => {
+    timeline.showTime(t);
+    renderParameters();
+  };
+  const animationChanged = theApp.onAnimationChange;
+  theApp.onAnimationChange = () => {
+    animationChanged();
+    timeline.render();
+  };
+  theApp.onMotionChange();
   // The test hook is compiled into the test build only (www/build.mjs defines __TEST__).
-  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters);
+  if (__TEST__) exposeHook(theApp, stage, renderer.name, worker, overlay, characters, timeline, swings);
   await theApp.openPicture(firstPicture, DEFAULT_PUPPET.pins);
 }
 

@@ -15,11 +15,13 @@ export class Playback {
   loop = false;
   /** How many playbacks have ended (or been stopped). */
   playsEnded = 0;
+  /** Told the time of every frame of playback shown (the timeline's playhead). */
+  onFrame: (t: number) => void = () => {};
   /** Whether updates are recorded now. */
   private recordingOn = false;
   /** Playback: when it started (page clock, ms), how long it lasts (s), whether a frame is
    *  in flight, and who waits for its end. */
-  private playback: { start: number; duration: number; inFlight: boolean; ended: (() => void)[] } | null = null;
+  private playback: { start: number; duration: number; inFlight: boolean; ended: (() => void)[]; at: number | null } | null = null;
 
   /** `changed` is told when recording or playback starts or stops. */
   constructor(
@@ -73,9 +75,10 @@ export class Playback {
     this.app.settling.check();
   }
 
-  /** Plays the recording (or the opened document) from its start; resolves when it ends
-   *  (at once when there is nothing to play, or when it is stopped). */
-  async play(): Promise<void> {
+  /** Plays the recording (or the opened document) from `from` (s; its start by default);
+   *  resolves when it ends (at once when there is nothing to play, or when it is stopped).
+   *  With `at`, shows the one frame at that time instead (a scrub). */
+  async play(from = 0, at: number | null = null): Promise<void> {
     const rig = this.app.rig;
     if (!rig || !this.app.live) return;
     if (this.recordingOn) await this.setRecording(false);
@@ -91,7 +94,7 @@ export class Playback {
     this.end();
     const ended: (() => void)[] = [];
     const done = new Promise<void>((resolve) => ended.push(resolve));
-    this.playback = { start: performance.now(), duration: answer.result.duration, inFlight: false, ended };
+    this.playback = { start: performance.now() - 1000 * from, duration: answer.result.duration, inFlight: false, ended, at };
     this.changed();
     this.app.frames.request();
     return done;
@@ -115,7 +118,8 @@ export class Playback {
     if (!p || p.inFlight || !this.app.live) return;
     let t = (performance.now() - p.start) / 1000;
     let last = false;
-    if (this.loop && p.duration > 0) t %= p.duration;
+    if (p.at !== null) [t, last] = [p.at, true];
+    else if (this.loop && p.duration > 0) t %= p.duration;
     else if (t >= p.duration) [t, last] = [p.duration, true];
     p.inFlight = true;
     const sent = performance.now();
@@ -131,6 +135,7 @@ export class Playback {
           });
         }
         this.solver.showUnsolved(rig, positions, ms, sent);
+        this.onFrame(t);
         if (last) this.end();
         // The next pose is asked for a frame after this one was (at most one in flight),
         // not only at the next animation frame, so that it is back in time for it.

@@ -178,6 +178,8 @@ export interface SolveStats {
   readonly converged: boolean;
   /** The largest distance between a pin's point on the result and its target. */
   readonly lag: number;
+  /** Whether a swing (a spring on a secondary pin) still moves: the page keeps updating. */
+  readonly swinging?: boolean;
 }
 
 export interface UpdateResult {
@@ -339,6 +341,142 @@ export interface LoadDocumentResult {
   readonly duration: number;
   readonly loop: boolean;
   readonly mode: "track" | "weights" | "channels" | "still";
+  /** The document's parameters, correctives, channels and swings (version 3). */
+  readonly motion: MotionState;
+}
+
+// --- parameters, the timeline's channels and swings (motion.ts in the worker, issue 25) ---
+
+/** A parameter as the page and a document hold it (`ParameterDefinition`). */
+export interface ParameterSpec {
+  readonly id: string;
+  readonly min: number;
+  readonly max: number;
+  readonly default: number;
+  readonly keys: readonly number[];
+}
+
+/** A parameter of the worker's rig: its definition and, per key, whether a keyform is set
+ *  (the default key's is the rest). */
+export interface ParameterInfo extends ParameterSpec {
+  readonly keyforms: readonly boolean[];
+}
+
+/** A corrective (`rig.addCorrective`): the pose at a combination of two parameters' keys. */
+export interface CorrectiveInfo {
+  readonly ids: readonly [string, string];
+  readonly at: readonly [number, number];
+}
+
+/** The rig's parameters and correctives, as every motion request answers. */
+export interface MotionResult {
+  readonly generation: number;
+  readonly parameters: readonly ParameterInfo[];
+  readonly correctives: readonly CorrectiveInfo[];
+}
+
+export interface AddParameterBody {
+  readonly generation: number;
+  readonly parameter: ParameterSpec;
+}
+
+export interface RemoveParameterBody {
+  readonly generation: number;
+  readonly id: string;
+}
+
+export interface KeyformBody {
+  readonly generation: number;
+  readonly id: string;
+  readonly key: number;
+  /** The keyform, one position per vertex (the pose on screen), or null to clear it. */
+  readonly positions: Float64Array | null;
+}
+
+export interface CorrectiveBody {
+  readonly generation: number;
+  readonly ids: readonly [string, string];
+  readonly at: readonly [number, number];
+  readonly positions: Float64Array | null;
+}
+
+export interface ParameterPoseBody {
+  readonly generation: number;
+  /** One value per parameter, in the rig's order. */
+  readonly values: Float64Array;
+  /** Where the positions go (transferred there and back). */
+  readonly out: Float64Array;
+}
+
+/** A spring on a secondary pin (`SpringSettings`, pins by index in the compiled set). */
+export interface PinSwing {
+  readonly kind: "pins";
+  readonly pin: number;
+  readonly root: readonly number[];
+  readonly frequency: number;
+  readonly damping: number;
+  readonly inertia: number;
+  readonly gravity: readonly [number, number];
+  readonly limit: number;
+  readonly mix: number;
+}
+
+/** A spring on a parameter, kicked by another parameter's motion (a document's
+ *  `dynamics` entry of kind "parameter"). */
+export interface ParameterSwing {
+  readonly kind: "parameter";
+  readonly parameter: string;
+  readonly input: string;
+  readonly frequency: number;
+  readonly damping: number;
+  readonly inertia: number;
+  readonly scale: number;
+}
+
+export type Swing = PinSwing | ParameterSwing;
+
+/** A keyed channel (`keyTrack.toJSON()`), as a document holds it. */
+export interface ChannelData {
+  readonly target: string;
+  readonly keys: readonly KeyData[];
+}
+
+export interface KeyData {
+  readonly t: number;
+  readonly v: number | readonly number[];
+  readonly interp?: "linear" | "hold" | "bezier";
+  readonly ease?: string | readonly [number, number, number, number];
+}
+
+export interface MotionBody {
+  readonly generation: number;
+  /** The timeline's channels, for documents and playback. */
+  readonly channels: readonly ChannelData[];
+  /** The swings: pin springs run while pins are dragged (`Dynamics`), and every swing goes
+   *  into documents. */
+  readonly swings: readonly Swing[];
+  /** The springs' tick, Hz. */
+  readonly tick: number;
+  /** The timeline's length (s): a document that plays its channels lasts as long, or
+   *  until its last key. */
+  readonly duration: number;
+}
+
+export interface AdoptMotionBody {
+  readonly generation: number;
+  /** The generation replaced (not released yet). */
+  readonly from: number;
+}
+
+/** What an opened document holds for the motion panels. */
+export interface MotionState {
+  readonly parameters: readonly ParameterInfo[];
+  readonly correctives: readonly CorrectiveInfo[];
+  readonly channels: readonly ChannelData[];
+  readonly swings: readonly Swing[];
+  readonly tick: number;
+  /** The timeline's length (s), when the document plays its channels. */
+  readonly duration: number | null;
 }
 
 /** Each request's body and its result. */
@@ -378,9 +516,24 @@ export interface Calls {
   /** One frame of playback (`player.positionsInto`). */
   playFrame: { body: PlayFrameBody; result: PlayFrameResult };
   /** The generation as a puppet document. */
-  document: { body: DocumentBody; result: { readonly document: DocumentData } };
+  document: { body: DocumentBody; result: { readonly document: DocumentData; readonly note: string | null } };
   /** Opens a puppet document as a new generation (its mesh, pins, regions, poses, track). */
   loadDocument: { body: LoadDocumentBody; result: LoadDocumentResult };
+  /** Adds a parameter to the generation's rig (made on the first). */
+  addParameter: { body: AddParameterBody; result: MotionResult };
+  removeParameter: { body: RemoveParameterBody; result: MotionResult };
+  /** Sets (or clears) a parameter's keyform at one of its keys. */
+  setKeyform: { body: KeyformBody; result: MotionResult };
+  /** Sets (or clears) a corrective at two parameters' keys. */
+  setCorrective: { body: CorrectiveBody; result: MotionResult };
+  /** The pose the parameters' values give (`rig.setValue`, `rig.poseInto`). */
+  parameterPose: { body: ParameterPoseBody; result: PositionsResult };
+  /** The timeline's channels and the swings (springs made again for the compiled pins). */
+  setMotion: { body: MotionBody; result: { readonly generation: number } };
+  /** A remesh (detail, method) takes the motion of the generation it replaces: the
+   *  parameters (with their keyforms and correctives when the mesh is the same), the
+   *  channels and the swings (null: that one had none). */
+  adoptMotion: { body: AdoptMotionBody; result: { readonly state: MotionState | null } };
 }
 
 export type Kind = keyof Calls;

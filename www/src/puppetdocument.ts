@@ -6,11 +6,13 @@ import { Blender, Player, Track, type PuppetDocument } from "../../js/index.js";
 import { held, type Held } from "./held.js";
 import { flatSimulation, onRendered, onSimulation, simulationOf } from "./nesting.js";
 import type { Outcome } from "./outcome.js";
+import { addMotion, restoreMotion } from "./motion.js";
 import type { LoadDocumentBody, LoadDocumentResult, Regions } from "./protocol.js";
 import { build } from "./registering.js";
 
-/** The generation as a puppet document (docs/puppet-document.md). */
-export function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): PuppetDocument {
+/** The generation as a puppet document (docs/puppet-document.md), and what of its motion
+ *  a document cannot hold (a sentence), or null. */
+export function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): { document: PuppetDocument; note: string | null } {
   const puppet = rig.puppet;
   // Version 2 with the simulation mesh, its poses on it (where every simulation vertex is
   // a rendered one); else version 1, the rendered mesh alone.
@@ -42,7 +44,9 @@ export function documentOf(rig: Held, picture: { url: string; width: number; hei
     const start = json.times[0] ?? 0;
     document.track = { ...json, times: json.times.map((t) => t - start) };
   }
-  return document;
+  // Version 3: parameters, correctives, channels, swings (motion.ts).
+  const note = addMotion(rig, document, (p) => (nested ? onSimulation(nested.corners, p) : Array.from(p)));
+  return { document, note };
 }
 
 export function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult> {
@@ -83,9 +87,12 @@ export function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult
     const rig = held.get(body.generation);
     if (!rig) throw new Error("the document's puppet was not kept");
     const all = (doc.poses ?? []).map((pose) => (simulation ? onRendered(simulation, pose.positions) : Float64Array.from(pose.positions)));
-    // The poses the weight track uses animate; the others are the user's poses to blend.
+    // Version 3: the parameters (their keyforms are poses), correctives, channels, swings.
+    const motion = restoreMotion(rig, doc, all);
+    // The poses the weight track uses animate, and keyforms are the parameters'; the
+    // others are the user's poses to blend.
     const weights = doc.weights;
-    const animated = all.map((_, k) => weights !== undefined && weights.times.some((_, s) => weights.values[s * all.length + k] !== 0));
+    const animated = all.map((_, k) => motion.used.has(k) || (weights !== undefined && weights.times.some((_, s) => weights.values[s * all.length + k] !== 0)));
     const poses = all.filter((_, k) => !animated[k]);
     if (poses.length > 0) {
       rig.blender = Blender.register(player.vertices, player.triangles, { ...doc.blend, ...(simulation ? { simulation } : {}) });
@@ -96,8 +103,8 @@ export function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult
         rig.poses.push(pose.slice());
       }
     }
-    if (weights && animated.some(Boolean)) {
-      const used = all.flatMap((_, k) => (animated[k] ? [k] : []));
+    if (weights && animated.some((a, k) => a && !motion.used.has(k))) {
+      const used = all.flatMap((_, k) => (animated[k] && !motion.used.has(k) ? [k] : []));
       rig.keys = {
         start: 0,
         times: [...weights.times],
@@ -108,7 +115,7 @@ export function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult
     if (doc.track) rig.track = Track.fromJSON(doc.track);
     rig.player = player;
     rig.document = doc;
-    const result: LoadDocumentResult = { opened: built.result, poses, duration: player.duration, loop: doc.loop ?? false, mode: player.mode };
+    const result: LoadDocumentResult = { opened: built.result, poses, duration: player.duration, loop: doc.loop ?? false, mode: player.mode, motion: motion.state };
     return { result, transfer: [...built.transfer, ...poses.map((q) => q.buffer)] };
   } catch (e) {
     player.free();

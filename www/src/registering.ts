@@ -93,6 +93,7 @@ export function build(
       keys: null,
       player: null,
       document: null,
+      motion: null,
     });
     const result: OpenResult = {
       generation: body.generation,

@@ -122,8 +122,9 @@ export class Solver {
           this.lastSolveMs = stats.solveMs;
           this.app.pictureChanged();
           this.flips.stale = true;
-          // Not converged: the same targets again, continuing where this update stopped.
-          if (!stats.converged) s.dirty = true;
+          // Not converged, or a swing still moves: the same targets again, continuing
+          // where this update stopped.
+          if (!stats.converged || stats.swinging) s.dirty = true;
           this.app.frames.request();
         } else if (answer.status === "error" && rig === this.app.rig) {
           this.app.status.error(answer.error);
