@@ -498,3 +498,45 @@ fn keyed_overlap_depths_hold_between_keys() {
     // No depth channel: nothing is keyed, and the still depths are the document's.
     assert!(!Player::new(document(&overlap(2.0))).unwrap().depths_keyed());
 }
+
+#[test]
+fn a_pins_motion_swings_a_parameter() {
+    // The composed document's parameter swung by pin 2's x (Live2D's input), in place of
+    // its channel.
+    let spring = |input: &str| {
+        let mut d = composed_document("");
+        d.channels.as_mut().unwrap().retain(|c| c.target != "parameters.turn");
+        let text = serde_json::to_string(&d).unwrap().replacen(
+            r#""format""#,
+            &format!(
+                r#""dynamics":[{{"kind":"parameter","parameter":"turn","input":{input},"frequency":2,"damping":0.2,"scale":20}}],"format""#
+            ),
+            1,
+        );
+        Document::from_json(&text)
+    };
+    let d = spring(r#"{"pin":2,"axis":"y"}"#).unwrap();
+    let frames = |fps: u32| -> Vec<Vec<u64>> {
+        let mut player = Player::new(d.clone()).unwrap();
+        (0..=2 * fps).map(|k| bits(&player.positions_at(k as f64 / fps as f64).unwrap())).collect()
+    };
+    let (a, b) = (frames(30), frames(60));
+    for (k, x) in a.iter().enumerate() {
+        assert_eq!(x, &b[2 * k], "30 and 60 fps at frame {k}");
+    }
+    let mut plain = composed_document("");
+    plain.channels.as_mut().unwrap().retain(|c| c.target != "parameters.turn");
+    let mut still = Player::new(plain).unwrap();
+    let mut swung = Player::new(d).unwrap();
+    let differs = (1..20).any(|k| {
+        let t = k as f64 / 10.0;
+        bits(&still.positions_at(t).unwrap()) != bits(&swung.positions_at(t).unwrap())
+    });
+    assert!(differs, "the pin's motion swings the parameter");
+    let err = |input: &str| Player::new(spring(input).unwrap()).unwrap_err().to_string();
+    assert!(err(r#"{"pin":7}"#).contains("dynamics[0].input.pin"));
+    assert!(err(r#"{"pin":2,"axis":"z"}"#).contains("dynamics[0].input.axis"));
+    assert!(err(r#"{"pin":2,"parameter":"turn"}"#).contains("dynamics[0].input"));
+    assert!(err(r#"{"axis":"x","parameter":"turn"}"#).contains("dynamics[0].input.axis"));
+    assert!(spring(r#"{"pin":2,"colour":1}"#).is_err(), "unknown fields are refused");
+}

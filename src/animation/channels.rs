@@ -2,8 +2,10 @@
 //! and its keys as a [`KeyTrack`]. Pins' channels give the pins' targets and rotations at
 //! any time ([`PinChannels`]); parameters' channels give the parameters' values.
 
-use super::{fault, Document, DocumentFault, Interp, KeyTrack, KeyTrackOptions, ValueSpace};
+use super::track::parse_kind;
+use super::{check_values, fault, Document, DocumentFault, Interp, KeyTrack, KeyTrackOptions, ValueSpace};
 use crate::error::{Quoted, Result};
+use crate::PinKind;
 use crate::Rotation;
 
 /// What a channel animates.
@@ -184,4 +186,25 @@ impl PinChannels {
         }
         Ok(())
     }
+}
+
+/// The pins' rest points and kinds (`pins`), checked. Errors name the field.
+pub(crate) fn pins(d: &Document, what: &str) -> Result<(Vec<[f64; 2]>, Vec<PinKind>)> {
+    let missing =
+        || fault(DocumentFault::Structure, "pins".into(), format!("is missing ({what} drives pins)"));
+    let p = d.pins.as_ref().ok_or_else(missing)?;
+    let n = p.points.len() / 2;
+    check_values("pins.points", &p.points, 2 * n)?;
+    let points = p.points.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let mut kinds = vec![PinKind::Position; n];
+    if let Some(names) = &p.kinds {
+        super::check_len("pins.kinds", names.len(), n)?;
+        for (i, (kind, name)) in kinds.iter_mut().zip(names).enumerate() {
+            *kind = parse_kind(name).ok_or_else(|| {
+                let reason = format!("{} is not \"position\", \"bend\" or \"advanced\"", Quoted(name));
+                fault(DocumentFault::Structure, format!("pins.kinds[{i}]"), reason)
+            })?;
+        }
+    }
+    Ok((points, kinds))
 }

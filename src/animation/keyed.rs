@@ -3,15 +3,14 @@
 //! its parameters ([`Posed`]); its keyed weights.
 
 use super::baked::{bake, dynamics, tick, Springs};
-use super::channels::{Animated, Channels, PinChannels};
+use super::channels::{pins, Animated, Channels, PinChannels};
 use super::composed::Composed;
 use super::player::{drive, Driven, Engine, Rendered};
 use super::posed::Posed;
-use super::track::parse_kind;
 use super::weights::{blend_poses, Blended};
-use super::{check_values, fault, Document, DocumentFault, Track, TrackJson};
+use super::{fault, Document, DocumentFault, Track, TrackJson};
 use crate::dynamics::{Dynamics, Tick};
-use crate::error::{Quoted, Result};
+use crate::error::Result;
 use crate::{Mesh, PinKind, Rotation};
 
 /// Checks that the fields of version 3 appear in a document of version 3 or later.
@@ -30,27 +29,6 @@ pub(super) fn check_motion_version(d: &Document) -> Result<()> {
         }
         _ => Ok(()),
     }
-}
-
-/// The pins' rest points and kinds (`pins`), checked. Errors name the field.
-fn pins(d: &Document, what: &str) -> Result<(Vec<[f64; 2]>, Vec<PinKind>)> {
-    let missing =
-        || fault(DocumentFault::Structure, "pins".into(), format!("is missing ({what} drives pins)"));
-    let p = d.pins.as_ref().ok_or_else(missing)?;
-    let n = p.points.len() / 2;
-    check_values("pins.points", &p.points, 2 * n)?;
-    let points = p.points.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
-    let mut kinds = vec![PinKind::Position; n];
-    if let Some(names) = &p.kinds {
-        super::check_len("pins.kinds", names.len(), n)?;
-        for (i, (kind, name)) in kinds.iter_mut().zip(names).enumerate() {
-            *kind = parse_kind(name).ok_or_else(|| {
-                let reason = format!("{} is not \"position\", \"bend\" or \"advanced\"", Quoted(name));
-                fault(DocumentFault::Structure, format!("pins.kinds[{i}]"), reason)
-            })?;
-        }
-    }
-    Ok((points, kinds))
 }
 
 /// The pins' motion at any time, exactly: their channels, or a track or channels moved by

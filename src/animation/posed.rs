@@ -3,14 +3,15 @@
 //! live overrides ([`crate::animation::Player::set_value`]) or their defaults.
 
 use super::baked::Springs;
-use super::channels::{Animated, Channels};
+use super::channels::{pins, Animated, Channels, PinChannels};
 use super::{fault, Document, DocumentFault, KeyTrack};
 use crate::blend::{BlendOptions, Flipped};
 use crate::deform::GlueRow;
-use crate::dynamics::{ParameterSettings, ParameterSpring, Tick};
+use crate::dynamics::{Axis, ParameterInput, ParameterSettings, ParameterSpring, Tick};
 use crate::error::{Error, Quoted, Result};
 use crate::rig::{Parameter, Rig, RigOptions};
-use crate::Mesh;
+use crate::{Mesh, Rotation};
+use bunraku_document::SpringInputJson;
 
 /// Parameters driving a rig.
 #[derive(Debug)]
@@ -26,6 +27,8 @@ pub(crate) struct Posed {
     values: Vec<f64>,
     /// Springs on parameters (`dynamics` of kind `"parameter"`).
     swings: Vec<Swing>,
+    /// The pins' channels, when a spring's input is a pin.
+    pin_inputs: Option<PinInputs>,
     tick: Tick,
     /// A loop's period (the springs play one period ahead, so that it has no seam), or 0.
     period: f64,
@@ -38,11 +41,29 @@ pub(crate) struct Posed {
 #[derive(Debug)]
 struct Swing {
     spring: ParameterSpring,
-    /// The parameters read and written.
-    input: usize,
+    /// What kicks it, and the parameter it writes.
+    input: Input,
     output: usize,
     /// The ticks stepped since the start (0: at rest, nothing stepped).
     at: u64,
+}
+
+/// What moves a parameter spring.
+#[derive(Debug, Clone, Copy)]
+enum Input {
+    /// Another parameter's value (before springs).
+    Parameter(usize),
+    /// A pin's target along x or y, or its angle, from the pins' channels.
+    Pin(ParameterInput),
+}
+
+/// The pins' channels, for springs that a pin's motion moves: their targets and rotations
+/// at a tick's time (scratch).
+#[derive(Debug)]
+struct PinInputs {
+    channels: PinChannels,
+    targets: Vec<[f64; 2]>,
+    rotations: Vec<Rotation>,
 }
 
 /// The ids of `d`'s parameters, in order.
@@ -111,7 +132,23 @@ impl Posed {
         }
         let tick = super::baked::tick(d)?;
         let ids: Vec<String> = parameters.iter().map(|p| p.id.clone()).collect();
-        let swings = swings(d, &ids, tick, springs)?;
+        let pin_count = d.pins.as_ref().map_or(0, |p| p.points.len() / 2);
+        let swings = swings(d, &ids, tick, springs, pin_count)?;
+        // The pins' channels, for the springs a pin's motion moves (pins without a channel
+        // hold still, and so does their input).
+        let pin_inputs = match swings.iter().any(|s| matches!(s.input, Input::Pin(_))) {
+            true => {
+                let (points, _) = pins(d, "a spring's input")?;
+                let n = points.len();
+                let channels = PinChannels::new(channels, points);
+                Some(PinInputs {
+                    channels,
+                    targets: vec![[0.0; 2]; n],
+                    rotations: vec![Rotation::default(); n],
+                })
+            }
+            false => None,
+        };
         let end = d.duration.unwrap_or(channels.end);
         let period = if d.looping.unwrap_or(false) { d.duration.unwrap_or(end) } else { 0.0 };
         if !swings.is_empty() {
@@ -125,6 +162,7 @@ impl Posed {
             overrides: vec![None; parameters.len()],
             values: vec![0.0; parameters.len()],
             swings,
+            pin_inputs,
             tick,
             period,
             end,
@@ -142,6 +180,19 @@ impl Posed {
                 Ok(value[0])
             }
             (None, None) => Ok(self.defaults[k]),
+        }
+    }
+
+    /// A spring's input at time `t`: a parameter's value before springs, or a pin's target
+    /// or angle from the pins' channels.
+    fn input(&mut self, input: Input, t: f64) -> Result<f64> {
+        match (input, &mut self.pin_inputs) {
+            (Input::Parameter(k), _) => self.base(k, t),
+            (Input::Pin(pin), Some(p)) => {
+                p.channels.sample_into(t, &mut p.targets, &mut p.rotations)?;
+                pin.read(&p.targets, &p.rotations)
+            }
+            (Input::Pin(_), None) => Ok(0.0), // not made: `new` makes it for every pin input
         }
     }
 
@@ -163,7 +214,7 @@ impl Posed {
             while self.swings[s].at < target {
                 let at = (self.swings[s].at + 1) as f64 / hz - self.period;
                 let input_time = if self.period > 0.0 { at.rem_euclid(self.period) } else { at.max(0.0) };
-                let input = self.base(self.swings[s].input, input_time)?;
+                let input = self.input(self.swings[s].input, input_time)?;
                 self.swings[s].spring.step(input)?;
                 self.swings[s].at += 1;
             }
@@ -221,7 +272,7 @@ impl Posed {
 /// Errors name the spring: a kind other than `"parameter"` (pins springs need pins), an
 /// unknown parameter, fields of the other kind (a spring on pins is left to the pins'
 /// engine with [`Springs::Mixed`]), settings [`ParameterSpring::new`] refuses.
-fn swings(d: &Document, ids: &[String], tick: Tick, which: Springs) -> Result<Vec<Swing>> {
+fn swings(d: &Document, ids: &[String], tick: Tick, which: Springs, pin_count: usize) -> Result<Vec<Swing>> {
     let parameters = d.parameters.as_deref().unwrap_or(&[]);
     let mut swings = Vec::new();
     for (i, s) in d.dynamics.iter().flatten().enumerate() {
@@ -247,10 +298,39 @@ fn swings(d: &Document, ids: &[String], tick: Tick, which: Springs) -> Result<Ve
                 .ok_or_else(|| bad(field, format!("{} names no parameter", Quoted(id))))
         };
         let output = find(s.parameter.as_deref(), "parameter")?;
-        let input = find(s.input.as_ref().map(|x| x.parameter.as_str()), "input.parameter")?;
-        if input == output {
-            return Err(bad("input.parameter", "is the parameter the spring swings".into()));
-        }
+        let input = match s.input.as_ref() {
+            Some(SpringInputJson { parameter: Some(_), pin: Some(_), .. }) => {
+                return Err(bad("input", "names a parameter and a pin: one of the two".into()));
+            }
+            Some(SpringInputJson { pin: Some(pin), axis, .. }) => {
+                if *pin as usize >= pin_count {
+                    let reason = format!("is pin {pin}, but the document has {pin_count} pins");
+                    return Err(bad("input.pin", reason));
+                }
+                let axis = match axis.as_deref() {
+                    None | Some("x") => Axis::X,
+                    Some("y") => Axis::Y,
+                    Some("angle") => Axis::Angle,
+                    Some(a) => {
+                        return Err(bad(
+                            "input.axis",
+                            format!("{} is not \"x\", \"y\" or \"angle\"", Quoted(a)),
+                        ))
+                    }
+                };
+                Input::Pin(ParameterInput { pin: *pin as usize, axis })
+            }
+            Some(SpringInputJson { axis: Some(_), .. }) => {
+                return Err(bad("input.axis", "belongs to a pin's input".into()));
+            }
+            other => {
+                let k = find(other.and_then(|x| x.parameter.as_deref()), "input.parameter")?;
+                if k == output {
+                    return Err(bad("input.parameter", "is the parameter the spring swings".into()));
+                }
+                Input::Parameter(k)
+            }
+        };
         let p = &parameters[output];
         let settings = ParameterSettings {
             frequency: s.frequency.unwrap_or(1.2),

@@ -110,7 +110,7 @@ export interface PuppetDocument {
   channels?: { target: string; keys: KeyJSON[] }[];
   /** Version 3: springs on secondary pins (kind `"pins"`), or on parameters (kind `"parameter"`:
    *  swung by another parameter's motion). */
-  dynamics?: (SpringSettings | { kind: "parameter"; parameter: string; input: { parameter: string };
+  dynamics?: (SpringSettings | { kind: "parameter"; parameter: string; input: { parameter: string } | { pin: number; axis?: "x" | "y" | "angle" };
                                  frequency?: number; damping?: number; inertia?: number; scale?: number })[];
   /** Repeat every `duration` seconds. Default `false`. */
   loop?: boolean;

@@ -23,7 +23,8 @@ pub use document::{
 };
 pub use keys::{EaseJson, KeyJson, ValueJson, MAX_KEYS, MAX_KEY_DIMS};
 pub use motion::{
-    ChannelJson, DynamicJson, GridJson, GridKeyformJson, KeyformJson, ParameterJson, MAX_MOTION_ITEMS,
+    ChannelJson, DynamicJson, GridJson, GridKeyformJson, KeyformJson, ParameterJson, SpringInputJson,
+    MAX_MOTION_ITEMS,
 };
 pub use read::MAX_POSES;
 

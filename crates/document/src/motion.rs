@@ -124,10 +124,18 @@ pub struct DynamicJson {
     pub mix: Option<f64>,
 }
 
-/// What moves a parameter spring: another parameter's value.
+/// What moves a parameter spring: another parameter's value, or a pin's motion along an
+/// axis (a document whose channels move pins and pose parameters). One of the two.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpringInputJson {
     /// The id of the parameter whose motion kicks the spring.
-    pub parameter: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parameter: Option<String>,
+    /// The pin whose motion kicks the spring (its index in `pins`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pin: Option<u32>,
+    /// What is read of the pin: `"x"`, `"y"` (its target) or `"angle"`. Default `"x"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<String>,
 }
