@@ -2,7 +2,8 @@
 // that load only dist/element.js as a module script and the element, served with the
 // shipped documents (assets/gingerbread.bunraku.json and its picture, a one-picture pin
 // track with an overlap region; assets/character-motion.bunraku.json and its atlas, a
-// layered character with parameters, a channel and a parameter spring). Frames are counted
+// layered character with parameters, a channel and a parameter spring; and the two with a
+// keyed overlap depth and a keyed draw order added, served as made here). Frames are counted
 // by wrapping the calls that start one (WebGL2's `clear`, Canvas 2D's `putImageData`) in an
 // init script: the element has no test hook. A seeked frame is compared with the package's
 // `Renderer` drawing `player.positionsAt(t)` in the same page.
@@ -23,7 +24,19 @@ const ROOT = fileURLToPath(new URL("../../", import.meta.url));
 const GINGERBREAD = JSON.parse(readFileSync(`${ROOT}assets/gingerbread.bunraku.json`, "utf8"));
 
 /** Files the pages may ask for besides dist/, pkg/ and assets/. */
+const CHARACTER = JSON.parse(readFileSync(`${ROOT}assets/character-motion.bunraku.json`, "utf8"));
 const EXTRA = {
+  // The overlap region's depth keyed: in front until 1.5 s, then behind (the hand passes over
+  // the chest around 1.6 s).
+  "/keyed-depth.bunraku.json": {
+    status: 200,
+    body: JSON.stringify({ ...GINGERBREAD, version: 3, picture: { ...GINGERBREAD.picture, url: "assets/gingerbread.png" }, channels: [{ target: "overlap[0].depth", keys: [{ t: 0, v: 1, interp: "hold" }, { t: 1.5, v: -1 }] }] }),
+  },
+  // The arm drawn first (behind everything) from 1.5 s on.
+  "/keyed-order.bunraku.json": {
+    status: 200,
+    body: JSON.stringify({ ...CHARACTER, atlas: { ...CHARACTER.atlas, url: "assets/character-atlas.png" }, drawOrderTrack: { times: [0, 1.5], orders: [[0, 1, 2, 3, 4, 5], [4, 0, 1, 2, 3, 5]] } }),
+  },
   "/bad.bunraku.json": { status: 200, body: JSON.stringify({ format: "bunraku-puppet", version: 1, mesh: { vertices: [0, 0], triangles: "no" } }) },
   "/no-picture.bunraku.json": { status: 200, body: JSON.stringify({ ...GINGERBREAD, picture: { url: "missing.png" } }) },
 };
@@ -73,18 +86,22 @@ const COUNTERS = () => {
     ctx.drawImage(canvas, 0, 0);
     return ctx.getImageData(0, 0, c.width, c.height).data;
   };
-  /** The mean and max difference of two RGBA frames, over the colour channels, in 0–255. */
+  /** The mean and max difference of two RGBA frames over the colour channels, in 0–255,
+   *  and the share of pixels more than 48 off in some channel (`far`). */
   window.difference = (a, b) => {
-    let sum = 0, max = 0, n = 0;
+    let sum = 0, max = 0, n = 0, far = 0;
     for (let i = 0; i < a.length; i += 4) {
+      let most = 0;
       for (let c = 0; c < 3; c++) {
         const d = Math.abs(a[i + c] - b[i + c]);
         sum += d;
-        max = Math.max(max, d);
+        most = Math.max(most, d);
         n++;
       }
+      max = Math.max(max, most);
+      if (most > 48) far++;
     }
-    return { mean: sum / n, max };
+    return { mean: sum / n, max, far: far / (a.length / 4) };
   };
 };
 
@@ -264,6 +281,75 @@ test("a layered character plays from its atlas; WebGL2 and Canvas 2D draw the sa
     assert.ok(r.blank.mean > 10, "the character is drawn");
     assert.ok(r.same.mean <= 1, `mean difference ${r.same.mean}`);
     assert.ok(r.other.mean > 3 * r.same.mean, "the frames differ over time");
+  });
+});
+
+test("keyed overlap depths and a keyed draw order are followed, re-sorted only when they change", { timeout: TIMEOUT }, async (t) => {
+  await inPage(`<bunraku-player id="depth" src="/keyed-depth.bunraku.json" ${BOX}></bunraku-player>
+                <bunraku-player id="order" src="/keyed-order.bunraku.json" ${BOX}></bunraku-player>
+                <bunraku-player id="order2d" src="/keyed-order.bunraku.json" ${BOX} renderer="2d"></bunraku-player>
+                <bunraku-player id="plain" src="/assets/character-motion.bunraku.json" ${BOX}></bunraku-player>`, async (page) => {
+    await loaded(page, "depth", "order", "order2d", "plain");
+    const r = await page.evaluate(async () => {
+      const { Renderer } = await import("/dist/index.js");
+      const bitmap = await createImageBitmap(await (await fetch("/assets/gingerbread.png")).blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+      const c = new OffscreenCanvas(bitmap.width, bitmap.height);
+      c.getContext("2d").drawImage(bitmap, 0, 0);
+      const pixels = c.getContext("2d").getImageData(0, 0, c.width, c.height);
+      const renderer = new Renderer(pixels.data, pixels.width, pixels.height);
+      const el = document.querySelector("#depth");
+      const { player } = el;
+      const { width, height } = el.shadowRoot.querySelector("canvas");
+      const at = 1.6;
+      const keyed = new Float32Array(player.triangleCount);
+      // What the element draws at 1.6 s, against the Renderer with the depths keyed there
+      // and with the document's still depths.
+      el.seek(at);
+      const frame = window.shot(el);
+      const draw = (depth) => renderer.render(player.positionsAt(at), player.triangles, player.uvs, width, height, { transform: el.transform, background: [255, 255, 255, 255], depth });
+      const expected = draw((player.triangleDepthInto(at, keyed), keyed));
+      const still = draw(player.triangleDepth);
+      renderer.free();
+      // Index uploads while it plays: one per change of the depths, not one per frame.
+      let uploads = 0;
+      const bufferData = WebGL2RenderingContext.prototype.bufferData;
+      WebGL2RenderingContext.prototype.bufferData = function (target, ...rest) {
+        if (target === this.ELEMENT_ARRAY_BUFFER) uploads++;
+        return bufferData.call(this, target, ...rest);
+      };
+      el.seek(1);
+      el.speed = 2;
+      el.play();
+      const frames = await window.framesIn(1500);
+      el.pause();
+      WebGL2RenderingContext.prototype.bufferData = bufferData;
+      // The character: the arm behind the torso from 1.5 s; WebGL2 and Canvas 2D agree.
+      const [gl, cpu, plain] = [document.querySelector("#order"), document.querySelector("#order2d"), document.querySelector("#plain")];
+      const shots = (time) => {
+        gl.seek(time);
+        cpu.seek(time);
+        plain.seek(time);
+        return [window.shot(gl), window.shot(cpu), window.shot(plain)];
+      };
+      const [front, front2d, frontPlain] = shots(1.4);
+      const [behind, behind2d, behindPlain] = shots(1.6);
+      return {
+        keyed: window.difference(frame, expected), still: window.difference(frame, still),
+        uploads, frames, played: el.currentTime,
+        agree: [window.difference(front, front2d), window.difference(behind, behind2d)],
+        plain: [window.difference(front, frontPlain), window.difference(behind, behindPlain)],
+      };
+    });
+    const share = (d) => `${(100 * d.far).toFixed(2)}%`;
+    t.diagnostic(`keyed depths at 1.6 s vs the Renderer: mean ${r.keyed.mean.toFixed(3)}, ${share(r.keyed)} of the pixels far off; vs the still depths: ${r.still.mean.toFixed(3)}, ${share(r.still)}; ${r.uploads} index uploads in ${r.frames} frames`);
+    t.diagnostic(`keyed draw order: WebGL2 vs Canvas 2D ${r.agree.map((d) => d.mean.toFixed(3)).join(", ")}; vs the document without the keyed order at 1.4 s ${share(r.plain[0])}, at 1.6 s ${share(r.plain[1])} far off`);
+    assert.ok(r.keyed.mean <= 1, `the keyed depths are drawn: ${r.keyed.mean}`);
+    assert.ok(r.still.far > 3 * r.keyed.far + 0.001, `the keyed depths differ from the still ones here: ${share(r.still)} vs ${share(r.keyed)} far off`);
+    assert.ok(r.frames > 10, `${r.frames} frames`);
+    assert.ok(r.uploads >= 1 && r.uploads <= 4, `the depths re-sorted when they changed (1.5 s, and at the loop), not every frame: ${r.uploads} uploads`);
+    for (const d of r.agree) assert.ok(d.mean <= 1, `the keyed draw order: WebGL2 and Canvas 2D agree (${d.mean})`);
+    assert.ok(r.plain[0].far < 0.0005, `before 1.5 s the order is the document's: ${share(r.plain[0])} far off`);
+    assert.ok(r.plain[1].far > 0.003, `from 1.5 s the arm is behind: ${share(r.plain[1])} far off`);
   });
 });
 
