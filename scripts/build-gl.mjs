@@ -2,8 +2,10 @@
 // wasm-bindgen glue in pkg/), the WebGL2 helper `bunraku/gl` (js/gl.ts and the modules of
 // js/gl/ it exports from), and the layer readers `bunraku/layers` (js/layers.ts, js/layers/)
 // and `bunraku/psd` (js/psd.ts, js/psd/; it imports ag-psd, which stays a dependency and is
-// not bundled), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
-// dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js and
+// not bundled), and the custom element `<bunraku-player>`, `bunraku/element` (js/element.ts,
+// js/element/), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
+// dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js,
+// dist/element.js, dist/element/*.js and
 // their declarations, which package.json's "exports" and "files" name. Run it after
 // scripts/build-wasm.sh: the entry's declarations read pkg/bunraku.d.ts. Skipped when dist/ is newer than its inputs
 // (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
@@ -27,7 +29,7 @@ const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
 /** The package's entries: js/<name>.ts → dist/<name>.js. */
-const ENTRIES = ["index", "gl", "layers", "psd"];
+const ENTRIES = ["index", "gl", "layers", "psd", "element"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];
@@ -35,11 +37,14 @@ const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context",
 const LAYERS_MODULES = ["layer", "trim", "xml", "canvas", "images", "svg"];
 /** The modules of js/psd/ (bunraku/psd), likewise. */
 const PSD_MODULES = ["scan", "pixels", "clip", "read"];
+/** The modules of js/element/ (bunraku/element), likewise. */
+const ELEMENT_MODULES = ["load", "painters"];
 /** Every module of a folder, as a path under js/ (or dist/) without its extension. */
 const MODULES = [
   ...GL_MODULES.map((m) => `gl/${m}`),
   ...LAYERS_MODULES.map((m) => `layers/${m}`),
   ...PSD_MODULES.map((m) => `psd/${m}`),
+  ...ELEMENT_MODULES.map((m) => `element/${m}`),
 ];
 /** What the build writes into it (besides its stamp). */
 export const GL_FILES = [...ENTRIES, ...MODULES].flatMap((m) => [`${m}.js`, `${m}.d.ts`]);
@@ -61,7 +66,7 @@ function staleBecause() {
   return null;
 }
 
-/** Compiles js/index.ts, js/gl.ts, js/layers.ts, js/psd.ts and their modules into dist/ when it is out of date
+/** Compiles js/index.ts, js/gl.ts, js/layers.ts, js/psd.ts, js/element.ts and their modules into dist/ when it is out of date
  *  (always with `force`). Throws when tsc reports an error. */
 export function buildGL({ force = false, log = (line) => console.log(`[build-gl] ${line}`) } = {}) {
   const reason = force ? "--force" : staleBecause();

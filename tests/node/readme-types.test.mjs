@@ -1,10 +1,10 @@
 // Type-checks every ```js and ```ts snippet of README.md with `tsc --strict` against the
-// built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts, dist/layers.d.ts and dist/psd.d.ts
-// for `bunraku/gl`, `bunraku/layers` and `bunraku/psd`, built here when they are out of
+// built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts, dist/layers.d.ts, dist/psd.d.ts and
+// dist/element.d.ts for `bunraku/gl`, `bunraku/layers`, `bunraku/psd` and `bunraku/element`, built here when they are out of
 // date), so that the documentation and the types cannot drift apart; tests/types/api.ts
 // (checks of the declarations themselves) is compiled with them. Each snippet becomes a
 // module of its own in a temporary folder, importing "bunraku", "bunraku/gl",
-// "bunraku/layers" and "bunraku/psd" (mapped to pkg/ and dist/ by `paths`), beside an ambient prelude that declares the free
+// "bunraku/layers", "bunraku/psd" and "bunraku/element" (mapped to pkg/ and dist/ by `paths`), beside an ambient prelude that declares the free
 // names the snippets use (tests/types/readme-prelude.d.ts); a snippet's own declarations
 // shadow them. Shell commands and other text are not js/ts blocks and are not checked.
 import { test } from "node:test";
@@ -67,6 +67,7 @@ writeFileSync(
         "bunraku/gl": [join(root, "dist/gl.d.ts")],
         "bunraku/layers": [join(root, "dist/layers.d.ts")],
         "bunraku/psd": [join(root, "dist/psd.d.ts")],
+        "bunraku/element": [join(root, "dist/element.d.ts")],
       },
     },
     files: [join(root, "tests/types/readme-prelude.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
@@ -112,7 +113,8 @@ test("tests/types/api.ts type-checks (the declarations' own checks)", () => {
 test("no `any` in a public signature of the package's declarations", () => {
   const gl = readdirSync(join(root, "dist/gl")).filter((f) => f.endsWith(".d.ts")).map((f) => `dist/gl/${f}`);
   assert.ok(gl.length > 0, "dist/gl/*.d.ts");
-  for (const file of ["pkg/bunraku.d.ts", "dist/index.d.ts", "dist/gl.d.ts", ...gl]) {
+  const element = readdirSync(join(root, "dist/element")).filter((f) => f.endsWith(".d.ts")).map((f) => `dist/element/${f}`);
+  for (const file of ["pkg/bunraku.d.ts", "dist/index.d.ts", "dist/gl.d.ts", ...gl, "dist/element.d.ts", ...element]) {
     const dts = readFileSync(join(root, file), "utf8");
     // InitOutput lists the raw wasm exports (wasm-bindgen's, not the API); comments may say "any".
     const api = dts.replace(/export interface InitOutput \{[^}]*\}/, "").replace(/\/\*[\s\S]*?\*\//g, "");
