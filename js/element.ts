@@ -430,9 +430,10 @@ export class BunrakuPlayer extends Base {
     try {
       const t = this.time;
       if (this.changed) {
-        // The player gives the positions of its previous call again when asked for the same
-        // time after `setValue` (a parameter's change would not show while paused): a
-        // neighbouring time first makes it pose afresh.
+        // A live value reaches the parameter springs only through the ticks stepped after
+        // it, and none pass while paused: a time just before first makes the player step
+        // its springs again from the start with the new value (a seek back), so a paused
+        // frame shows the swing the value gives, as a fresh player would.
         this.changed = false;
         player.positionsInto(t > 0 ? Math.max(0, t - 1 / 120) : Math.min(this.duration, 1 / 120), positions);
       }
