@@ -480,7 +480,7 @@ fn keyed_overlap_depths_hold_between_keys() {
         assert_eq!(out, still(depth), "held: region 1 at depth {depth} at {t} s");
     }
     assert_eq!(player.triangle_depths(), &still(0.0)[..], "the document's depths");
-    assert!(still(5.0).iter().any(|&d| d == 5.0) && still(5.0).iter().any(|&d| d == 1.0));
+    assert!(still(5.0).contains(&5.0) && still(5.0).contains(&1.0));
     // A key may ease its segment instead.
     let mut eased = Player::new(keyed(r#","interp":"linear""#)).unwrap();
     eased.triangle_depths_into(1.5, &mut out).unwrap();

@@ -308,22 +308,20 @@ impl Player {
         &self.uvs
     }
 
-    /// Each triangle's depth from the document's overlap regions (0 without), as the
-    /// document gives their depths (see [`Player::triangle_depths_into`] for keyed ones).
+    /// Each triangle's depth from the document's overlap regions, as it gives them (0
+    /// without; keyed ones: [`Player::triangle_depths_into`]).
     pub fn triangle_depths(&self) -> &[f32] {
         self.depths.still()
     }
 
-    /// Whether a channel keys an overlap region's depth (`"overlap[j].depth"`): the
-    /// drawing order then changes with time ([`Player::triangle_depths_into`]).
+    /// Whether a channel keys an overlap region's depth (`"overlap[j].depth"`).
     pub fn depths_keyed(&self) -> bool {
         self.depths.keyed()
     }
 
-    /// Each triangle's depth at time `t` (seconds, looped as the positions are) into `out`
-    /// (one per triangle), allocating nothing: the keyed regions' depths at `t` (held
-    /// between keys unless a key eases), the others as the document gives them. Errors,
-    /// nothing changed: [`Error::BadTime`] (not finite), [`Error::CountMismatch`].
+    /// Each triangle's depth at time `t` (looped as the positions are) into `out`, without
+    /// allocating: keyed regions' depths at `t`, the others the document's. Errors, nothing
+    /// changed: [`Error::BadTime`] (not finite), [`Error::CountMismatch`].
     pub fn triangle_depths_into(&mut self, t: f64, out: &mut [f32]) -> Result<()> {
         if !t.is_finite() {
             return Err(Error::BadTime { time: t, reason: "is not finite" });
