@@ -146,7 +146,10 @@ fn failed_calls_leave_the_puppet_as_it_was() {
     let e = failure(
         p.update_into(targets.clone(), js_sys::Array::new().into(), JsValue::UNDEFINED).err().unwrap(),
     );
-    assert_eq!(e.message, "out: expected a Float64Array, got Array");
+    assert_eq!(
+        e.message,
+        "out: expected a Float64Array, or a Float32Array of 2 or 3 numbers per vertex, got Array"
+    );
     let e = message(
         p.update_into(targets.clone(), Float64Array::new_with_length(3).into(), JsValue::UNDEFINED)
             .err()

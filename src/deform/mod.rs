@@ -57,7 +57,7 @@ pub use glue::{glue_gap, GlueRow};
 pub use injective::{Report, PIN_TOLERANCE, VISIBLY_SETTLED};
 pub use pin_set::DISC_STIFFNESS;
 pub(crate) use pinned::{check_rotations, check_targets};
-pub use pinned::{Pinned, PoseState};
+pub use pinned::{Pinned, PoseState, DEFAULT_SETTLE_SOLVES, MAX_SETTLE_SOLVES};
 pub use pins::{with_default_radii, Handle, Pin, PinKind, Rotation, Target, DEFAULT_ROTATION_RADIUS};
 pub use rest::Rest;
 pub use starch::{Overlap, Starch, MAX_AMOUNT, MAX_DEPTH, MAX_REGIONS, MAX_STIFFNESS};

@@ -18,6 +18,13 @@ use crate::limits::MAX_COORDINATE;
 use crate::locate::Location;
 use crate::solver::Factor;
 
+/// The most back-substitutions [`Pinned::settle`] may be given.
+pub const MAX_SETTLE_SOLVES: u32 = 1_000_000;
+
+/// [`Pinned::settle`]'s budget when none is given (bindings): about 50 injective updates'
+/// worth at their default budget.
+pub const DEFAULT_SETTLE_SOLVES: u32 = 10_000;
+
 /// A compiled pin set on a [`Rest`] shape, with the numeric factorisations and every
 /// buffer an update needs. It is updated every frame; [`Pinned::recompile`] makes another
 /// pin set keeping the pose and the starch; [`Pinned::set_starch`] refactorises in place.
@@ -239,6 +246,41 @@ impl Pinned {
         self.report.lag = self.lag(targets);
         self.report.glue_gap = super::glue_gap(&rest.glue, |v| self.positions[v as usize]);
         Ok(())
+    }
+
+    /// Updates at the same targets until the method converges (issue 26 §9): what posing
+    /// in code needs, instead of a hold-until-converged loop of the caller's. The stateless
+    /// methods converge in one update; the injective method continues where each update
+    /// stopped (each with the puppet's own per-update budget) until it reports convergence
+    /// or the back-substitutions spent reach `max_solves` (1 to [`MAX_SETTLE_SOLVES`]):
+    /// counted work, so the result is the same on every machine and at any load (unless the
+    /// puppet's options give a wall-clock `budget_ms`). Returns the last update's report,
+    /// with `solves` and `iterations` summed over the updates, and how many updates ran.
+    ///
+    /// Errors (the puppet unchanged): those of [`Pinned::update_with`], before any update;
+    /// [`Error::BadOption`] for `max_solves` out of range.
+    pub fn settle(
+        &mut self,
+        targets: &[[f64; 2]],
+        rotations: &[Rotation],
+        max_solves: u32,
+    ) -> Result<(Report, usize)> {
+        if !(1..=MAX_SETTLE_SOLVES).contains(&max_solves) {
+            let reason = format!("is not a whole number in 1..={MAX_SETTLE_SOLVES}");
+            return Err(Error::BadOption { name: "maxSolves", value: Some(max_solves as f64), reason });
+        }
+        let (mut solves, mut iterations, mut updates) = (0, 0, 0);
+        loop {
+            self.solve(targets, rotations)?;
+            updates += 1;
+            solves += self.report.solves;
+            iterations += self.report.iterations;
+            // An update that made no solve cannot make progress: stop there too.
+            if self.report.converged || solves >= max_solves as usize || self.report.solves == 0 {
+                break;
+            }
+        }
+        Ok((Report { solves, iterations, ..self.report }, updates))
     }
 
     /// What the last update did: the pins' largest miss, whether it converged, its work.

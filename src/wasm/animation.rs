@@ -262,7 +262,7 @@ impl JsPlayer {
     /// track of the wrong length), `non-finite`, and the mesh's, pins' and poses' own
     /// errors (`index-out-of-range`, `handle-outside`, `flipped-triangles`, …).
     pub fn load(
-        #[wasm_bindgen(unchecked_param_type = "string | PuppetDocument")] document: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "string | PuppetDocumentLike")] document: JsValue,
     ) -> Result<JsPlayer, Thrown> {
         let text = json_text(document)?;
         let player = animation::Player::new(Document::from_json(&text).map_err(Error::from)?)?;

@@ -49,6 +49,16 @@ export interface WeightsJSON {
   values: number[];
 }
 
+/** `T` with its literal types widened (`"track"` to `string`, `[x, y]` to `number[]`), as
+ *  TypeScript infers an object written into a variable: what `Player.load` takes, so that
+ *  `const doc = { format: "bunraku-puppet", … }; Player.load(doc)` type-checks. The reader
+ *  checks every field when it loads. */
+export type Widened<T> = T extends string ? string : T extends number ? number : T extends boolean ? boolean
+  : T extends readonly (infer U)[] ? Widened<U>[] : T extends object ? { [K in keyof T]: Widened<T[K]> } : T;
+
+/** A puppet document as data, its literal types widened (see `Widened`). */
+export type PuppetDocumentLike = Widened<PuppetDocument>;
+
 /** A puppet document, version 1, 2 or 3: every field is described in docs/puppet-document.md. */
 export interface PuppetDocument {
   format: "bunraku-puppet";

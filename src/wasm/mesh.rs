@@ -34,10 +34,35 @@ export interface MeshJSON {
 #[wasm_bindgen(js_name = Mesh)]
 pub struct JsMesh {
     pub(crate) shape: ShapeMesh,
+    /// The point locator of `contains`, made on its first call.
+    locator: std::cell::OnceCell<crate::locate::Locator>,
+}
+
+impl From<ShapeMesh> for JsMesh {
+    fn from(shape: ShapeMesh) -> JsMesh {
+        JsMesh { shape, locator: std::cell::OnceCell::new() }
+    }
 }
 
 #[wasm_bindgen(js_class = Mesh)]
 impl JsMesh {
+    /// Whether the point `(x, y)` is on the mesh: where `puppet.compile` accepts a pin
+    /// (the same point location, with its small boundary tolerance), so a pin can be checked
+    /// before compiling. The first call builds a grid of the triangles (linear in their
+    /// number); later calls are a lookup. Throws `bad-type` for a coordinate that is not a
+    /// number; a non-finite one is not on the mesh.
+    pub fn contains(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "number")] x: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "number")] y: JsValue,
+    ) -> Result<bool, Thrown> {
+        let x = x.as_f64().ok_or_else(|| super::errors::bad_type("x", "a number", &x))?;
+        let y = y.as_f64().ok_or_else(|| super::errors::bad_type("y", "a number", &y))?;
+        let mesh = self.shape.mesh();
+        let locator = self.locator.get_or_init(|| crate::locate::Locator::new(mesh));
+        Ok(locator.locate(mesh, [x, y]).is_some())
+    }
+
     /// Meshes the inside of the closed polygon `outer` (`[x0, y0, x1, y1, …]`) minus the
     /// `holes` (an array of such polygons) with well-shaped triangles (constrained Delaunay
     /// triangulation refined by spade). Throws on self-intersecting outlines (naming the
@@ -63,7 +88,7 @@ impl JsMesh {
             }
         }
         let options = outline_options(&options)?;
-        Ok(JsMesh { shape: shape_from_outline(&outer, &hole_points, &options)? })
+        Ok(JsMesh::from(shape_from_outline(&outer, &hole_points, &options)?))
     }
 
     /// Meshes the opaque part of a picture: `rgba` (a `Uint8Array` or `Uint8ClampedArray`,
@@ -82,7 +107,7 @@ impl JsMesh {
         let (width, height) = (super::pixels("width", &width)?, super::pixels("height", &height)?);
         let bytes = rgba_bytes(&rgba)?;
         let options = image_options(&options)?;
-        Ok(JsMesh { shape: mesh_image(&bytes, width, height, &options)? })
+        Ok(JsMesh::from(mesh_image(&bytes, width, height, &options)?))
     }
 
     /// Reads a Wavefront OBJ text: `v x y [z]` lines (all with the same z, which is
@@ -95,7 +120,7 @@ impl JsMesh {
     pub fn from_obj(
         #[wasm_bindgen(unchecked_param_type = "string")] text: JsValue,
     ) -> Result<JsMesh, Thrown> {
-        Ok(JsMesh { shape: read_obj(&string("text", &text)?)? })
+        Ok(JsMesh::from(read_obj(&string("text", &text)?)?))
     }
 
     /// Reads a mesh from JSON: the text `toJSON` describes, or the object itself (what
@@ -134,7 +159,7 @@ impl JsMesh {
                 elements(lp, &at, |v, at| index(v).ok_or_else(|| wrong(&at, "a vertex index", v)))
             })
         })?;
-        Ok(JsMesh { shape: ShapeMesh::from_parts(vertices, triangles, uvs)? })
+        Ok(JsMesh::from(ShapeMesh::from_parts(vertices, triangles, uvs)?))
     }
 
     /// The mesh as plain data, so that `JSON.stringify(mesh)` writes it and
@@ -217,7 +242,7 @@ impl JsMesh {
             }
             .into());
         };
-        Ok(JsMesh { shape: self.shape.refine(factor as u32)? })
+        Ok(JsMesh::from(self.shape.refine(factor as u32)?))
     }
 
     /// The number of triangles.

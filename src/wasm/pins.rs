@@ -20,6 +20,15 @@ const PIN_TYPES: &'static str = r#"
  *  it; `"advanced"` both. */
 export type PinKind = "position" | "bend" | "advanced";
 
+/** What `puppet.settle` did: whether the method converged, how many updates ran, the
+ *  back-substitutions they made, and the pins' largest miss after the last. */
+export interface SettleReport {
+  converged: boolean;
+  updates: number;
+  solves: number;
+  lag: number;
+}
+
 /** Options of `Puppet.compile` and `Puppet.compileVertices`. */
 export interface CompileOptions {
   /** One kind per pin, in the pins' order. Default: every pin `"position"`. */

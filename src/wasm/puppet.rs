@@ -5,15 +5,16 @@ use js_sys::{Array, Float32Array, Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::character::{place_on_parts, SharedCharacter};
+use super::errors::bad_option;
 use super::flatten::quality_object;
 use super::mesh::JsMesh;
-use super::options::{register_options, weights_name};
+use super::options::{register_options, weights_name, Fields};
 use super::pins::{kind_name, overlap, pins, read_rotations, starch, PinOptions};
 use super::positions::positions_out;
 use super::simulation::{mesh_embedding, simulation_option};
 use super::{flat, items, read_exact, typed, Thrown};
 use crate::deform::pins::with_default_radii;
-use crate::deform::{Options, Starch};
+use crate::deform::{Options, Starch, DEFAULT_SETTLE_SOLVES, MAX_SETTLE_SOLVES};
 use crate::simulation::{Embedding, PlacedPins};
 use crate::{Error, Handle, Mesh, Pin, Pinned, Rest, Rotation};
 
@@ -89,7 +90,7 @@ impl Puppet {
         if options.is_object()
             && !js_sys::Reflect::get(&options, &"simulation".into()).unwrap_or_default().is_undefined()
         {
-            return Err(super::errors::bad_option(
+            return Err(bad_option(
                 "simulation",
                 &JsValue::UNDEFINED,
                 "is the mesh's own in Puppet.fromMesh (use Puppet.register to pass another)",
@@ -170,7 +171,7 @@ impl Puppet {
             Some(c) => place_on_parts(&*c.borrow()?, &mut given, parts.as_deref())?,
             None if parts.is_some() => {
                 let reason = "is an option of a character's puppet (character.puppet())";
-                return Err(super::errors::bad_option("parts", &JsValue::UNDEFINED, reason));
+                return Err(bad_option("parts", &JsValue::UNDEFINED, reason));
             }
             None => {}
         }
@@ -348,6 +349,54 @@ impl Puppet {
         let solved = self.solve(&targets, &rotations).map(|flat| out.write(flat, &mut staging));
         self.staging = staging;
         solved
+    }
+
+    /// Updates at `targets` (and `rotations`) until the method converges, and returns what
+    /// it did: `{ converged, updates, solves, lag }` (`SettleReport`); the positions are then
+    /// `positions` (or the next `updateInto`'s, at the same targets). For posing in code:
+    /// the stateless methods converge in one update; the injective method continues update
+    /// after update, each with the puppet's own budget, until it converges or the
+    /// back-substitutions spent reach `options.maxSolves` (default 10,000, at most 10⁶):
+    /// counted work, the same on every machine. Throws as `update` does, and `bad-option`;
+    /// the pose is then as it was.
+    #[wasm_bindgen(unchecked_return_type = "SettleReport")]
+    pub fn settle(
+        &mut self,
+        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array | null")] rotations: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "{ maxSolves?: number }")] options: JsValue,
+    ) -> Result<JsValue, Thrown> {
+        let max_solves = match Fields::open(&options, &["maxSolves"])?.count("maxSolves")? {
+            Some(n) if n >= 1 && n <= MAX_SETTLE_SOLVES as usize => n as u32,
+            Some(n) => {
+                let reason = format!("is not a whole number in 1..={MAX_SETTLE_SOLVES}");
+                return Err(bad_option("maxSolves", &(n as f64).into(), &reason));
+            }
+            None => DEFAULT_SETTLE_SOLVES,
+        };
+        if self.pinned.is_none() {
+            let reason = "has no pins: compile it before settling it";
+            return Err(bad_option("puppet", &JsValue::UNDEFINED, reason));
+        }
+        read_exact("targets", typed::<Float64Array>("targets", &targets)?, &mut self.targets)?;
+        read_rotations(&rotations, &mut self.rotations)?;
+        let Some(p) = &mut self.pinned else { return Ok(JsValue::UNDEFINED) };
+        let (report, updates) = match &self.embedding {
+            None => p.settle(&self.targets, &self.rotations, max_solves)?,
+            Some(e) => {
+                crate::deform::check_targets(&self.targets, self.placed.pins.len())?;
+                self.placed.targets(&self.targets, &self.rotations, &mut self.simulation_targets);
+                let settled = p.settle(&self.simulation_targets, &self.rotations, max_solves)?;
+                e.gather(p.positions(), &mut self.rendered);
+                settled
+            }
+        };
+        let object = js_sys::Object::new();
+        super::set(&object, "converged", &report.converged.into());
+        super::set(&object, "updates", &(updates as f64).into());
+        super::set(&object, "solves", &(report.solves as f64).into());
+        super::set(&object, "lag", &report.lag.into());
+        Ok(object.into())
     }
 
     /// Reads the targets and rotations into the puppet's own buffers and solves; before any

@@ -67,6 +67,8 @@ impl JsRenderer {
     /// anti-aliased and shared edges leave no seams. Throws a `BunrakuError` naming the
     /// offending item: wrong array types or lengths, a triangle naming a missing vertex, a
     /// non-finite value, an unknown or bad option, a frame side of 0 or above 16384.
+    // A fresh array over its own `ArrayBuffer`, as `new ImageData(…)` wants it.
+    #[wasm_bindgen(unchecked_return_type = "Uint8ClampedArray<ArrayBuffer>")]
     pub fn render(
         &mut self,
         #[wasm_bindgen(unchecked_param_type = "Float64Array")] positions: JsValue,
@@ -75,10 +77,10 @@ impl JsRenderer {
         #[wasm_bindgen(unchecked_param_type = "number")] width: JsValue,
         #[wasm_bindgen(unchecked_param_type = "number")] height: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "RenderOptions")] options: JsValue,
-    ) -> Result<Uint8ClampedArray, Thrown> {
+    ) -> Result<JsValue, Thrown> {
         let (width, height) = (pixels("width", &width)?, pixels("height", &height)?);
         self.draw(&positions, &triangles, &uvs, width, height, &options)?;
-        Ok(Uint8ClampedArray::from(&self.frame[..]))
+        Ok(Uint8ClampedArray::from(&self.frame[..]).into())
     }
 
     /// Like `render`, but writes the frame into `out` (a `Uint8ClampedArray` or

@@ -5,6 +5,7 @@
 // are typed arrays, and errors have codes. A line marked @ts-expect-error must not compile.
 import {
   Mesh,
+  Player,
   Puppet,
   Renderer,
   flatten,
@@ -133,3 +134,22 @@ try {
     console.warn(e.message);
   }
 }
+
+// Issue 26 §7: what the docs show type-checks. A document written into a variable (its
+// literal types widened to string and number[]) loads; `render` gives what ImageData takes.
+const doc = {
+  format: "bunraku-puppet",
+  version: 3,
+  mesh: { vertices: [0, 0, 1, 0, 0, 1], triangles: [0, 1, 2] },
+  pins: { points: [0, 0], kinds: ["bend"] },
+  channels: [{ target: "pins[0].angle", keys: [{ t: 0, v: 0, interp: "bezier", ease: [0.42, 0, 0.58, 1] }, { t: 1, v: 1 }] }],
+  play: "channels",
+};
+Player.load(doc);
+// @ts-expect-error: a document is an object or its text
+Player.load(42);
+const frame = new Renderer(rgba, 2, 2).render(v, t, new Float32Array(2 * v.length / 2), 2, 2);
+new ImageData(frame, 2, 2);
+// Float32Array outputs (issue 26 §6).
+const gpu = new Float32Array(3 * 4);
+Puppet.register(v, t).updateInto(v, gpu);
