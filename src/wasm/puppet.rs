@@ -357,7 +357,8 @@ impl Puppet {
     /// the stateless methods converge in one update; the injective method continues update
     /// after update, each with the puppet's own budget, until it converges or the
     /// back-substitutions spent reach `options.maxSolves` (default 10,000, at most 10⁶):
-    /// counted work, the same on every machine. Throws as `update` does, and `bad-option`;
+    /// counted work, the same on every machine. Before any compile, the rest shape (0 updates),
+    /// as `update` gives it. Throws as `update` does, and `bad-option`;
     /// the pose is then as it was.
     #[wasm_bindgen(unchecked_return_type = "SettleReport")]
     pub fn settle(
@@ -374,13 +375,18 @@ impl Puppet {
             }
             None => DEFAULT_SETTLE_SOLVES,
         };
-        if self.pinned.is_none() {
-            let reason = "has no pins: compile it before settling it";
-            return Err(bad_option("puppet", &JsValue::UNDEFINED, reason));
-        }
         read_exact("targets", typed::<Float64Array>("targets", &targets)?, &mut self.targets)?;
         read_rotations(&rotations, &mut self.rotations)?;
-        let Some(p) = &mut self.pinned else { return Ok(JsValue::UNDEFINED) };
+        let object = js_sys::Object::new();
+        let Some(p) = &mut self.pinned else {
+            // As `update` before any compile: the rest shape, nothing to solve.
+            for (key, value) in
+                [("converged", true.into()), ("updates", 0.into()), ("solves", 0.into()), ("lag", 0.into())]
+            {
+                super::set(&object, key, &value);
+            }
+            return Ok(object.into());
+        };
         let (report, updates) = match &self.embedding {
             None => p.settle(&self.targets, &self.rotations, max_solves)?,
             Some(e) => {
@@ -391,7 +397,6 @@ impl Puppet {
                 settled
             }
         };
-        let object = js_sys::Object::new();
         super::set(&object, "converged", &report.converged.into());
         super::set(&object, "updates", &(updates as f64).into());
         super::set(&object, "solves", &(report.solves as f64).into());

@@ -46,7 +46,7 @@ test("settle gives what updates held until converged give, and reports its work"
 
 test("settle refuses bad input and leaves the pose as it was", () => {
   const p = Puppet.register(vertices, triangles);
-  assert.throws(() => p.settle(far), (e) => e.code === "bad-option" && /compile/.test(e.message), "no pins yet");
+  assert.deepEqual(p.settle(new Float64Array(0)), { converged: true, updates: 0, solves: 0, lag: 0 }, "no pins yet: the rest, as update gives");
   p.compile(pins);
   p.settle(far);
   const before = p.positions;
