@@ -97,6 +97,7 @@ export class PuppetSprite extends Mesh {
   private depth: Float32Array | null = null; // the depths the index buffer is sorted by
   private readonly depthScratch: Float32Array | null = null; // a keyed document's
   private readonly parts: DocPart[] | null = null; // a character document's
+  private readonly layered: boolean; // a character or a character's document: drawn in part order
   private drawOrder: Uint32Array | null = null;
   private t = 0;
   private readonly pinRadius: number;
@@ -162,6 +163,7 @@ export class PuppetSprite extends Mesh {
     this.player = player;
     this.ownsPuppet = ownsPuppet;
     this.parts = parts;
+    this.layered = parts !== null || source instanceof Character;
     this.speed = options.speed ?? 1;
     this.playing = !!options.autoplay && !!player;
     this.ticker = options.ticker ?? Ticker.shared;
@@ -237,10 +239,12 @@ export class PuppetSprite extends Mesh {
   /**
    * Draws the triangles in order of `depth` (one per triangle, e.g. `puppet.triangleDepth`
    * after `puppet.setOverlap`): larger in front where the shape overlaps itself. The index
-   * buffer is sorted again only when the values differ from the last ones given.
+   * buffer is sorted again only when the values differ from the last ones given. A
+   * character (or a character's document) is drawn in its parts' draw order instead, and
+   * ignores this.
    */
   setDepth(depth: Float32Array): void {
-    if (this.parts) return;
+    if (this.layered) return;
     const old = this.depth;
     if (old && old.length === depth.length && old.every((d, i) => d === depth[i])) return;
     const flat = depth.every((d) => d === depth[0]);

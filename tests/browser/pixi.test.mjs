@@ -6,7 +6,13 @@
 // more than 2 px from the shape's edges), a frame compared with another time's does not (the
 // comparison can fail); the positions buffer Pixi uploads is the array the solver wrote
 // (same object every frame, overwritten by `updateInto`); a mouse press pins the shape, a
-// second press grabs the pin, and a drag moves it; and the page reports no error.
+// second press grabs the pin, and a drag moves it; the index buffer is uploaded again only
+// when the depths change (`setDepth`, a document's keyed overlap depth); a layered character's document is drawn in its keyed draw order,
+// and a `Character` from its own atlas and puppet, both as the Renderer draws them with each
+// part at its rank's depth; and the page reports no error. "Away from edges" excludes the
+// pixels within 2 px of the shape's outline, of its folds, of the edges of the triangles
+// lying over other triangles and of the edges between depth levels: there the Renderer
+// anti-aliases and Pixi (without MSAA) does not.
 //
 //   node scripts/build-gl.mjs && node --test tests/browser/pixi.test.mjs
 
@@ -251,12 +257,22 @@ test("a posed puppet with an overlap region matches the Renderer, and its positi
       const rest = compare(image, puppet.vertices, puppet.vertices, puppet.triangles, mesh.uvs, 16, 16, depth);
       // With the depths negated the hand falls behind the chest.
       const flat = compare(image, puppet.positions, puppet.vertices, puppet.triangles, mesh.uvs, 16, 16, depth.map((d) => -d));
-      return { frames, match, rest, flat, depthLevels: new Set(depth).size, length: first.length, vertices: puppet.vertexCount };
+      // The index buffer is sorted again only when the depths change.
+      const index = sprite.geometry.indexBuffer;
+      const id0 = index._updateID;
+      sprite.setDepth(puppet.triangleDepth);
+      const id1 = index._updateID;
+      sprite.setDepth(depth.map((d) => -d));
+      const id2 = index._updateID;
+      sprite.setDepth(depth);
+      const resorts = [id1 - id0, id2 - id1];
+      return { resorts, frames, match, rest, flat, depthLevels: new Set(depth).size, length: first.length, vertices: puppet.vertexCount };
     });
     console.log(JSON.stringify(got));
     assert.equal(got.length, 2 * got.vertices);
     assert.deepEqual(got.frames, Array(3).fill({ same: true, written: true }));
     assert.equal(got.depthLevels, 2);
+    assert.deepEqual(got.resorts, [0, 1], "the same depths: no upload; new ones: one");
     assert.ok(within(got.match), `posed: ${JSON.stringify(got.match)}`);
     assert.ok(!within(got.rest), `the rest shape should not match: ${JSON.stringify(got.rest)}`);
     assert.ok(got.flat.max > 8 / 255, `the hand behind the chest should not match: ${JSON.stringify(got.flat)}`);
@@ -374,6 +390,87 @@ test("a layered character's document draws its parts in its keyed draw order, as
     assert.deepEqual(got.frames.map((f) => f.order), [[0, 1, 2, 3, 4, 5], [4, 0, 1, 2, 3, 5]]);
     for (const frame of got.frames) assert.ok(frame.inside > 20_000 && frame.mean <= 1 / 255 && frame.max <= 8 / 255, `t = ${frame.t}: ${JSON.stringify(frame)}`);
     assert.ok(got.wrong.max > 8 / 255, `the arm in front should not match: ${JSON.stringify(got.wrong)}`);
+    assert.deepEqual(errors, []);
+  } finally {
+    await context.close();
+  }
+});
+
+test("a layered Character: its atlas made into a texture, its puppet posed, its parts in draw order", { timeout: TIMEOUT }, async () => {
+  const { page, context, errors } = await open();
+  try {
+    const got = await page.evaluate(() => {
+      // Two striped rectangles, the upper one crossing the lower.
+      const layer = (name, rect, colour) => {
+        const [l, t, r, b] = rect;
+        const rgba = new Uint8ClampedArray(4 * (r - l) * (b - t));
+        for (let i = 0; i < rgba.length / 4; i++) {
+          const stripe = Math.floor((i % (r - l)) / 6) % 2 === 0;
+          rgba.set(stripe ? colour : [250, 240, 220, 255], 4 * i);
+        }
+        return { name, group: "", rect, visible: true, opacity: 1, blendMode: "normal", rgba };
+      };
+      const character = bunraku.Character.fromLayers([layer("body", [40, 40, 200, 320], [200, 60, 40, 255]), layer("arm", [20, 120, 300, 170], [40, 80, 200, 255])], { spacing: 8 });
+      const sprite = new PuppetSprite(character);
+      sprite.scale.set(2);
+      sprite.position.set(16, 16);
+      app.stage.addChild(sprite);
+      const puppet = sprite.puppet;
+      puppet.compile(new Float64Array([120, 300, 290, 145]));
+      sprite.update(new Float64Array([120, 300, 270, 60]));
+      const atlas = character.atlas;
+      const image = { data: atlas.data, width: atlas.width, height: atlas.height };
+      const positions = Float64Array.from(sprite.positions);
+      const match = compare(image, positions, character.vertices, character.triangles, character.uvs, 16, 16, null, 2);
+      // The comparison can fail: the body drawn over the arm.
+      const m = character.triangles.length / 3;
+      const depth = new Float32Array(m);
+      const arm = character.parts[1].triangles[1];
+      depth.fill(1, 0, m - arm);
+      const wrong = compare(image, positions, character.vertices, character.triangles, character.uvs, 16, 16, depth, 2);
+      const own = sprite.puppet === puppet && sprite.geometry.getBuffer("aPosition").data === sprite.positions;
+      sprite.destroy();
+      return { match, wrong, own };
+    });
+    console.log(JSON.stringify(got));
+    assert.ok(got.own);
+    assert.ok(got.match.inside > 20_000 && got.match.mean <= 1 / 255 && got.match.max <= 8 / 255, `posed: ${JSON.stringify(got.match)}`);
+    assert.ok(got.wrong.max > 8 / 255, `the body over the arm should not match: ${JSON.stringify(got.wrong)}`);
+    assert.deepEqual(errors, []);
+  } finally {
+    await context.close();
+  }
+});
+
+test("a document keying its overlap depth: the index buffer is sorted again when the depth changes, and only then", { timeout: TIMEOUT }, async () => {
+  const { page, context, errors } = await open();
+  try {
+    const got = await page.evaluate(async () => {
+      const doc = await (await fetch("/assets/gingerbread.bunraku.json")).json();
+      // The hand in front until 1.5 s, then behind (tests/browser/element.test.mjs's).
+      const keyed = { ...doc, version: 3, channels: [{ target: "overlap[0].depth", keys: [{ t: 0, v: 1, interp: "hold" }, { t: 1.5, v: -1 }] }] };
+      const player = bunraku.Player.load(keyed);
+      const image = await rgbaOf("/assets/gingerbread.png");
+      const sprite = new PuppetSprite(player, { texture: await PIXI.Assets.load("/assets/gingerbread.png") });
+      sprite.position.set(16, 16);
+      app.stage.addChild(sprite);
+      const index = sprite.geometry.indexBuffer;
+      const uploads = [];
+      const depth = new Float32Array(player.triangleCount);
+      const frames = [];
+      for (const t of [0.5, 1.0, 1.4, 1.6, 1.7, 2.2]) {
+        const id = index._updateID;
+        sprite.seek(t);
+        uploads.push(index._updateID - id);
+        player.triangleDepthInto(t, depth);
+        if (t === 1.4 || t === 1.7) frames.push({ t, ...compare(image, Float64Array.from(sprite.positions), player.vertices, player.triangles, player.uvs, 16, 16, depth) });
+      }
+      return { depthKeyed: player.depthKeyed, uploads, frames };
+    });
+    console.log(JSON.stringify(got));
+    assert.ok(got.depthKeyed);
+    assert.deepEqual(got.uploads, [0, 0, 0, 1, 0, 0], "sorted again once, when the key changes the depth");
+    for (const frame of got.frames) assert.ok(within(frame), `t = ${frame.t}: ${JSON.stringify(frame)}`);
     assert.deepEqual(errors, []);
   } finally {
     await context.close();

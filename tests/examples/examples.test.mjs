@@ -71,6 +71,12 @@ before(() => {
   assert.deepEqual(files, [
     "LICENSE",
     "README.md",
+    "dist/element.d.ts",
+    "dist/element.js",
+    "dist/element/load.d.ts",
+    "dist/element/load.js",
+    "dist/element/painters.d.ts",
+    "dist/element/painters.js",
     "dist/gl.d.ts",
     "dist/gl.js",
     "dist/gl/affine.d.ts",
