@@ -5,7 +5,8 @@
 // not bundled), and the custom element `<bunraku-player>`, `bunraku/element` (js/element.ts,
 // js/element/), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
 // dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js,
-// dist/element.js, dist/element/*.js and
+// dist/element.js, dist/element/*.js, the PixiJS v8 adapter `bunraku/pixi` (js/pixi.ts: it
+// imports pixi.js, a peer dependency, not bundled) into dist/pixi.js (a second tsc run, js/pixi/tsconfig.json) and
 // their declarations, which package.json's "exports" and "files" name. Run it after
 // scripts/build-wasm.sh: the entry's declarations read pkg/bunraku.d.ts. Skipped when dist/ is newer than its inputs
 // (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
@@ -29,7 +30,7 @@ const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
 /** The package's entries: js/<name>.ts → dist/<name>.js. */
-const ENTRIES = ["index", "gl", "layers", "psd", "element"];
+const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];
@@ -53,6 +54,7 @@ const INPUTS = [
   join(root, "js", "psd", "ambient.d.ts"),
   join(root, "pkg", "bunraku.d.ts"),
   join(root, "js", "tsconfig.json"),
+  join(root, "js", "pixi", "tsconfig.json"),
   fileURLToPath(import.meta.url),
   join(root, "package-lock.json"),
 ];
@@ -81,6 +83,9 @@ export function buildGL({ force = false, log = (line) => console.log(`[build-gl]
     const tsc = createRequire(import.meta.url).resolve("typescript/bin/tsc");
     const run = spawnSync(process.execPath, [tsc, "-p", join(root, "js", "tsconfig.json"), "--outDir", out, "--pretty", "false"], { encoding: "utf8" });
     if (run.status !== 0) throw new Error(`tsc -p js/tsconfig.json failed:\n${run.stdout}${run.stderr}`);
+    // bunraku/pixi: its own run (js/pixi/tsconfig.json), into the same folder.
+    const pixi = spawnSync(process.execPath, [tsc, "-p", join(root, "js", "pixi", "tsconfig.json"), "--outDir", out, "--pretty", "false"], { encoding: "utf8" });
+    if (pixi.status !== 0) throw new Error(`tsc -p js/pixi/tsconfig.json failed:\n${pixi.stdout}${pixi.stderr}`);
     for (const file of GL_FILES) {
       mkdirSync(dirname(join(GL_DIST, file)), { recursive: true });
       renameSync(join(out, file), join(GL_DIST, file));

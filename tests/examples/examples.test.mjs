@@ -5,7 +5,10 @@
 // page playing the document made in the demo (assets/gingerbread.bunraku.json, by
 // scripts/demo-document.mjs), whose frames are compared with the package's `Renderer`
 // drawing the `Player`'s positions in Node. The Node examples run, playing that document
-// too. Needs the npm registry (vite, typescript, pngjs) and /usr/bin/chromium.
+// too. examples/pixi (a PixiJS v8 app on bunraku/pixi, with the real pixi.js from npm) is
+// type-checked, built and opened the same way: a press pins the gingerbread, a drag poses
+// it, and the document plays. Needs the npm registry (vite, typescript, pixi.js, pngjs) and
+// /usr/bin/chromium.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync, spawn } from "node:child_process";
@@ -68,6 +71,12 @@ before(() => {
   assert.deepEqual(files, [
     "LICENSE",
     "README.md",
+    "dist/element.d.ts",
+    "dist/element.js",
+    "dist/element/load.d.ts",
+    "dist/element/load.js",
+    "dist/element/painters.d.ts",
+    "dist/element/painters.js",
     "dist/gl.d.ts",
     "dist/gl.js",
     "dist/gl/affine.d.ts",
@@ -120,6 +129,8 @@ before(() => {
     "dist/layers/trim.js",
     "dist/layers/xml.d.ts",
     "dist/layers/xml.js",
+    "dist/pixi.d.ts",
+    "dist/pixi.js",
     "dist/psd.d.ts",
     "dist/psd.js",
     "dist/psd/clip.d.ts",
@@ -388,3 +399,62 @@ async function playbackPage(browser, origin, t) {
     player.free();
   }
 }
+
+test("examples/pixi type-checks, builds and runs in Chromium: pointer pins drag the puppet, the document plays", { timeout: 10 * MINUTE }, async () => {
+  const dir = install("pixi", [["assets", "assets"]]);
+  run("npm", ["run", "build"], dir);
+  assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
+  const port = await freePort();
+  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
+  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
+    cwd: dir,
+    stdio: ["ignore", "ignore", "inherit"],
+  });
+  const origin = `http://127.0.0.1:${port}`;
+  let browser;
+  try {
+    await answering(`${origin}/`, server);
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+    const page = await browser.newPage({ viewport: { width: 1000, height: 800 } });
+    const problems = [];
+    page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+    page.on("pageerror", (e) => problems.push(String(e)));
+    await page.goto(`${origin}/`);
+    const status = page.locator('#status[data-state="ready"]');
+    await status.waitFor({ timeout: 30_000 });
+    const data = () => status.evaluate((el) => ({ ...el.dataset }));
+    const t0 = Number((await data()).time);
+    // src/main.ts: the posed sprite at (10, 20) in the canvas, scale 0.55, of the 768-pixel
+    // gingerbread: its belly (384, 510) and head (384, 156) in picture pixels.
+    const box = await page.locator("#stage canvas").boundingBox();
+    const onPage = (x, y) => ({ x: box.x + 1 + 10 + 0.55 * x, y: box.y + 1 + 20 + 0.55 * y }); // 1: the border
+    const belly = onPage(384, 510);
+    const head = onPage(384, 156);
+    await page.mouse.click(belly.x, belly.y);
+    await page.mouse.click(head.x, head.y);
+    await page.mouse.move(head.x, head.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(head.x + 0.55 * 10 * k, head.y);
+      await page.waitForTimeout(20);
+    }
+    await page.mouse.up();
+    // The injective default refines on the frames after the drag: until the head pin's
+    // material is where it was dragged (100 picture pixels right; the mouse lands on whole
+    // CSS pixels, 1.8 picture pixels apart).
+    await page.waitForFunction(() => {
+      const el = document.querySelector("#status");
+      const pins = JSON.parse(el.dataset.pinPositions ?? "[]");
+      return el.dataset.pins === "2" && Math.abs(pins[2] - 484) <= 3 && Math.abs(pins[3] - 156) <= 3;
+    }, null, { timeout: 30_000 });
+    const after = await data();
+    const pins = JSON.parse(after.pinPositions);
+    assert.ok(Math.abs(pins[0] - 384) <= 3 && Math.abs(pins[1] - 510) <= 3, `the belly pin stayed: ${pins}`);
+    assert.ok(Number(after.time) !== t0, `the document plays: ${t0} s, then ${after.time} s`);
+    assert.deepEqual(problems, []);
+    await page.close();
+  } finally {
+    await browser?.close();
+    server.kill();
+  }
+});

@@ -1,6 +1,7 @@
 // Type-checks every ```js and ```ts snippet of README.md with `tsc --strict` against the
 // built declarations (pkg/bunraku.d.ts, and dist/gl.d.ts, dist/layers.d.ts, dist/psd.d.ts and
-// dist/element.d.ts for `bunraku/gl`, `bunraku/layers`, `bunraku/psd` and `bunraku/element`, built here when they are out of
+// dist/element.d.ts for `bunraku/gl`, `bunraku/layers`, `bunraku/psd` and `bunraku/element`, and dist/pixi.d.ts with
+// the installed pixi.js (a dev dependency) for `bunraku/pixi`, built here when they are out of
 // date), so that the documentation and the types cannot drift apart; tests/types/api.ts
 // (checks of the declarations themselves) is compiled with them. Each snippet becomes a
 // module of its own in a temporary folder, importing "bunraku", "bunraku/gl",
@@ -68,9 +69,12 @@ writeFileSync(
         "bunraku/layers": [join(root, "dist/layers.d.ts")],
         "bunraku/psd": [join(root, "dist/psd.d.ts")],
         "bunraku/element": [join(root, "dist/element.d.ts")],
+        "bunraku/pixi": [join(root, "dist/pixi.d.ts")],
+        "pixi.js": [join(root, "node_modules/pixi.js/lib/index.d.ts")],
       },
     },
-    files: [join(root, "tests/types/readme-prelude.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
+    // pixi.js's declarations name WebGPU's types (@webgpu/types, its dependency).
+    files: [join(root, "tests/types/readme-prelude.d.ts"), join(root, "node_modules/@webgpu/types/dist/index.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
   }),
 );
 const run = spawnSync(process.execPath, [tsc, "-p", join(dir, "tsconfig.json"), "--pretty", "false"], {
