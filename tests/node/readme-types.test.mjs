@@ -68,6 +68,8 @@ writeFileSync(
         "bunraku/layers": [join(root, "dist/layers.d.ts")],
         "bunraku/psd": [join(root, "dist/psd.d.ts")],
         "bunraku/element": [join(root, "dist/element.d.ts")],
+        "bunraku/three": [join(root, "dist/three.d.ts")],
+        three: [join(root, "node_modules/@types/three/index.d.ts")],
       },
     },
     files: [join(root, "tests/types/readme-prelude.d.ts"), api, ...blocks.map((s) => join(dir, s.name))],
