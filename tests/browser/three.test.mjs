@@ -1,11 +1,15 @@
 // bunraku/three's `PuppetMesh` (js/three.ts, built into dist/three.js) in headless Chromium
 // with the real three package (node_modules/three, through an import map): a posed puppet
 // and a document's frames (assets/gingerbread.bunraku.json, one picture with an overlap
-// region; assets/character-motion.bunraku.json, a layered character's parts from an atlas)
-// drawn by three under orthographic and perspective cameras, y-down and y-up, compared with
+// region; assets/character-motion.bunraku.json, a layered character's parts from an atlas;
+// both with a keyed overlap depth or draw order added) and a `Character` made here from two
+// layers (one at 60% opacity) drawn by three under orthographic and perspective cameras, y-down and y-up, compared with
 // the package's `Renderer` drawing the same positions (mean ≤ 1/255 and max ≤ 8/255 per
 // colour channel, away from edges: pixels within 2 px of an edge of the shape, where the
-// `Renderer`'s coverage is neither 0 nor full, are left out); the position attribute's
+// `Renderer`'s coverage, or a depth level's, is neither 0 nor full, or where the mesh folds
+// or overlaps itself, are left out; up to 10 isolated pixels a frame of the gingerbread's
+// overlapping frames exceed 8/255 where the two rasterisers pick a different texel across a
+// sharp edge of the picture, and are counted); the position attribute's
 // array is the one the solver writes and the one uploaded (no copy); bounds follow the pose
 // (a pose far from the rest shape is not frustum-culled); a pointer drag adds and moves a
 // pin; no console errors.
@@ -427,6 +431,125 @@ test("pointer pins: pressing on the picture adds a pin, dragging it moves the pi
       assert.ok(r.events >= 5, `${kind}: pin events while dragging (${r.events})`);
       const cookie = ([red, g, b]) => red >= 150 && red - b > 60 && red - g > 30;
       assert.ok(cookie(r.hand), `${kind}: the hand is drawn where it was dragged (${r.hand})`);
+    }
+  });
+});
+
+test("a layered Character: its parts from the atlas in draw order, with a part's opacity, posed, match the Renderer's pixels; a new draw order reorders the groups", { timeout: TIMEOUT }, async () => {
+  await inPage(async (page) => {
+    const r = await page.evaluate(async (SIZE) => {
+      const { Character, Renderer } = bunraku;
+      // Two layers: a striped body, and an arm over it at 60% opacity.
+      const layer = (name, rect, opacity, paint) => {
+        const [l, t, rr, b] = rect;
+        const c = new OffscreenCanvas(rr - l, b - t);
+        paint(c.getContext("2d"), rr - l, b - t);
+        return { name, group: "", rect, visible: true, opacity, blendMode: "normal", rgba: c.getContext("2d").getImageData(0, 0, rr - l, b - t).data };
+      };
+      const body = layer("body", [100, 100, 400, 600], 1, (ctx, w, h) => {
+        for (let y = 0; y < h; y += 20) {
+          ctx.fillStyle = (y / 20) % 2 ? "#c0622a" : "#e8b04a";
+          ctx.fillRect(0, y, w, 20);
+        }
+      });
+      const arm = layer("arm", [250, 200, 650, 300], 0.6, (ctx, w, h) => {
+        ctx.fillStyle = "#3060c0";
+        ctx.fillRect(0, 0, w, h);
+        ctx.fillStyle = "#ffffff";
+        ctx.fillRect(0, 40, w, 20);
+      });
+      const character = Character.fromLayers([body, arm], { spacing: 12 });
+      const mesh = new adapter.PuppetMesh({ character });
+      const puppet = mesh.puppet;
+      // Pins: the body's foot, the arm's shoulder (on the arm: it is on top) and its hand.
+      puppet.compile(new Float64Array([250, 560, 280, 250, 620, 250]));
+      mesh.update(new Float64Array([250, 560, 280, 250, 600, 150]));
+      const renderer = makeRenderer(SIZE);
+      const scene = new THREE.Scene().add(mesh);
+      renderer.render(scene, place(mesh, SIZE, "ortho", false));
+      const got = pixelsOf(renderer.domElement);
+      // The Renderer: each part's triangles at its draw rank, the arm's level at 60%.
+      const { atlas, triangles, uvs, parts } = character;
+      const depth = new Float32Array(triangles.length / 3);
+      depth.fill(0, 0, parts[0].triangles[1]).fill(1, parts[0].triangles[1]);
+      const paint = new Renderer(atlas.data, atlas.width, atlas.height);
+      const white = paint.render(puppet.positions, triangles, uvs, SIZE, SIZE, { depth, styles: [{ opacity: 1 }, { opacity: 0.6 }], background: [255, 255, 255, 255] });
+      const ref = reference(paint, puppet.positions, triangles, uvs, SIZE, depth);
+      ref.white = white;
+      const same = compare(got, ref);
+      // The arm drawn first: behind the body.
+      mesh.setDrawOrder([1, 0]);
+      renderer.render(scene, place(mesh, SIZE, "ortho", false));
+      const behind = pixelsOf(renderer.domElement);
+      const at = (px, x, y) => Array.from(px.slice(4 * (y * SIZE + x), 4 * (y * SIZE + x) + 3));
+      return { same, groups: mesh.geometry.groups.map((g) => g.materialIndex), overBody: at(got, 330, 230), behindBody: at(behind, 330, 230), opacity: mesh.material.map((m) => m.opacity) };
+    }, SIZE);
+    console.log(JSON.stringify(r));
+    assert.ok(r.same.inside > 50_000, `the mask holds the character (${r.same.inside})`);
+    assert.ok(r.same.mean <= MEAN, `mean ${r.same.mean.toFixed(3)} ≤ ${MEAN}`);
+    assert.ok(r.same.max <= MAX, `max ${r.same.max} ≤ ${MAX} (${JSON.stringify(r.same.worst)})`);
+    assert.deepEqual(r.opacity, [1, 0.6]);
+    assert.deepEqual(r.groups, [1, 0], "the new draw order: the arm's group first");
+    assert.notDeepEqual(r.overBody, r.behindBody, "the arm over the body, then behind it");
+  });
+});
+
+test("keyed overlap depth and a keyed draw order: seek re-sorts the index buffer and reorders the parts, matching the Renderer", { timeout: TIMEOUT }, async () => {
+  await inPage(async (page) => {
+    const r = await page.evaluate(async (SIZE) => {
+      const { Player, Renderer } = bunraku;
+      const results = {};
+      const renderer = makeRenderer(SIZE);
+      const ginger = await (await fetch("/assets/gingerbread.bunraku.json")).json();
+      const character = await (await fetch("/assets/character-motion.bunraku.json")).json();
+      // The overlap region in front until 1.5 s, then behind (as tests/browser/element.test.mjs
+      // keys it); the arm drawn first (behind everything) from 1.5 s on.
+      const keyedDepth = { ...ginger, version: 3, channels: [{ target: "overlap[0].depth", keys: [{ t: 0, v: 1, interp: "hold" }, { t: 1.5, v: -1 }] }] };
+      const keyedOrder = { ...character, drawOrderTrack: { times: [0, 1.5], orders: [[0, 1, 2, 3, 4, 5], [4, 0, 1, 2, 3, 5]] } };
+      for (const [name, doc, picUrl, scale] of [["depth", keyedDepth, "/assets/gingerbread.png", 1], ["order", keyedOrder, "/assets/character-atlas.png", 2]]) {
+        const player = Player.load(doc);
+        const { data } = await picture(picUrl);
+        const mesh = new adapter.PuppetMesh({ player, picture: data });
+        const scene = new THREE.Scene().add(mesh);
+        const paint = new Renderer(data.data, data.width, data.height);
+        for (const t of [0.9, 1.6, 2.3]) {
+          mesh.seek(t);
+          renderer.render(scene, place(mesh, SIZE / scale, "ortho", false));
+          const p = player.positionsAt(t);
+          for (let i = 0; i < p.length; i++) p[i] *= scale;
+          let triangles = player.triangles;
+          const depth = new Float32Array(player.triangleCount);
+          if (name === "order") {
+            // The parts' triangles concatenated in the draw order at t.
+            const all = player.triangles;
+            const order = player.drawOrderAt(t);
+            triangles = new Uint32Array(all.length);
+            let at = 0;
+            for (const k of order) {
+              const [first, n] = doc.parts[k].triangles;
+              triangles.set(all.subarray(3 * first, 3 * (first + n)), at);
+              at += 3 * n;
+            }
+          } else player.triangleDepthInto(t, depth);
+          const got = pixelsOf(renderer.domElement);
+          results[`${name} t=${t}`] = compare(got, reference(paint, p, triangles, player.uvs, SIZE, depth));
+          // Against the frame without the keys (the document's own depths, the parts' order).
+          results.unkeyed ??= {};
+          results.unkeyed[`${name} t=${t}`] = compare(got, reference(paint, p, player.triangles, player.uvs, SIZE, name === "order" ? new Float32Array(player.triangleCount) : player.triangleDepth)).over;
+        }
+        if (name === "order") results.groups = mesh.geometry.groups.map((g) => g.materialIndex);
+      }
+      return results;
+    }, SIZE);
+    console.log(JSON.stringify(r));
+    assert.deepEqual(r.groups, [4, 0, 1, 2, 3, 5], "the keyed draw order at 2.3 s: the arm's group first");
+    // The keys matter: after 1.5 s the frames differ from the unkeyed ones.
+    for (const name of ["depth t=1.6", "order t=1.6"]) assert.ok(r.unkeyed[name] > 200, `${name}: ${r.unkeyed[name]} pixels differ from the unkeyed frame`);
+    for (const [name, d] of Object.entries(r)) {
+      if (name === "groups" || name === "unkeyed") continue;
+      assert.ok(d.inside > 10_000, `${name}: the mask holds the picture (${d.inside} pixels inside)`);
+      assert.ok(d.mean <= MEAN, `${name}: mean ${d.mean.toFixed(3)} ≤ ${MEAN}`);
+      assert.ok(d.max <= MAX || d.over <= 10, `${name}: max ${d.max} ≤ ${MAX} but for at most 10 pixels (${d.over} over)`);
     }
   });
 });
