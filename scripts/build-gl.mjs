@@ -3,10 +3,11 @@
 // js/gl/ it exports from), and the layer readers `bunraku/layers` (js/layers.ts, js/layers/)
 // and `bunraku/psd` (js/psd.ts, js/psd/; it imports ag-psd, which stays a dependency and is
 // not bundled), and the custom element `<bunraku-player>`, `bunraku/element` (js/element.ts,
-// js/element/), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
+// js/element/), and the three.js adapter `bunraku/three` (js/three.ts; it imports three,
+// an optional peer dependency, not bundled), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
 // dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js,
 // dist/element.js, dist/element/*.js, the PixiJS v8 adapter `bunraku/pixi` (js/pixi.ts: it
-// imports pixi.js, a peer dependency, not bundled) into dist/pixi.js (a second tsc run, js/pixi/tsconfig.json) and
+// imports pixi.js, a peer dependency, not bundled) into dist/pixi.js (a second tsc run, js/pixi/tsconfig.json), dist/three.js and
 // their declarations, which package.json's "exports" and "files" name. Run it after
 // scripts/build-wasm.sh: the entry's declarations read pkg/bunraku.d.ts. Skipped when dist/ is newer than its inputs
 // (pass --force to build anyway). `npm run build`, `npm pack` (prepack) and
@@ -30,7 +31,7 @@ const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
 /** The package's entries: js/<name>.ts → dist/<name>.js. */
-const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi"];
+const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi", "three"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];

@@ -141,6 +141,8 @@ before(() => {
     "dist/psd/read.js",
     "dist/psd/scan.d.ts",
     "dist/psd/scan.js",
+    "dist/three.d.ts",
+    "dist/three.js",
     "package.json",
     "pkg/bunraku.d.ts",
     "pkg/bunraku.js",
@@ -256,6 +258,66 @@ test("examples/vite type-checks, builds and runs in Chromium: the drag page and 
     browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
     await t.test("the drag page", () => dragPage(browser, origin));
     await t.test("the playback page plays the document made in the demo", () => playbackPage(browser, origin, t));
+  } finally {
+    await browser?.close();
+    server.kill();
+  }
+});
+
+test("examples/three type-checks, builds and runs in Chromium with the real three package: a drag pins and poses the puppet, the document plays", { timeout: 10 * MINUTE }, async () => {
+  const dir = install("three", [["assets", "assets"]]);
+  run("npm", ["run", "build"], dir);
+  assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
+  const port = await freePort();
+  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
+  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
+    cwd: dir,
+    stdio: ["ignore", "ignore", "inherit"],
+  });
+  const origin = `http://127.0.0.1:${port}`;
+  let browser;
+  try {
+    await answering(`${origin}/`, server);
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+    const page = await browser.newPage({ viewport: { width: 900, height: 600 }, deviceScaleFactor: 1 });
+    const problems = [];
+    page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+    page.on("pageerror", (e) => problems.push(String(e)));
+    await page.goto(`${origin}/`);
+    const status = page.locator("#status");
+    await status.filter({ hasText: /^ok: \d+ vertices, 0 pins, frame \d+$/ }).waitFor({ timeout: 20_000 });
+    // src/main.ts: the scene is 1600 × 800 units on an 800 × 400 canvas (half a unit a
+    // pixel); the left picture's pixel (px, py) is at canvas ((16 + px) / 2, (16 + py) / 2).
+    const box = await page.locator("#stage").boundingBox();
+    const at = (px, py) => ({ x: box.x + (16 + px) / 2, y: box.y + (16 + py) / 2 });
+    const shot = async () => PNG.sync.read(await page.screenshot());
+    const cookie = (png, { x, y }) => {
+      const i = 4 * (Math.round(y) * png.width + Math.round(x));
+      const [r, g, b] = png.data.subarray(i, i + 3);
+      return r >= 150 && r - b > 60 && r - g > 30;
+    };
+    const hand = at(597, 345); // the right hand, at rest
+    const to = at(697, 205);
+    const before = await shot();
+    assert.ok(cookie(before, hand) && !cookie(before, to), "the hand is drawn at rest, nothing where it is dragged to");
+    await page.mouse.move(hand.x, hand.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(hand.x + ((to.x - hand.x) * k) / 10, hand.y + ((to.y - hand.y) * k) / 10);
+      await page.waitForTimeout(20);
+    }
+    await page.mouse.up();
+    await status.filter({ hasText: /, 1 pins, / }).waitFor({ timeout: 10_000 });
+    await page.waitForTimeout(500); // the default method refines over the next frames
+    const after = await shot();
+    assert.ok(cookie(after, to), "the hand follows the pin");
+    // The played document moves on its own.
+    const right = { x: box.x + 400, y: box.y, width: 400, height: 400 };
+    const a = PNG.sync.read(await page.screenshot({ clip: right }));
+    await page.waitForTimeout(400);
+    const b = PNG.sync.read(await page.screenshot({ clip: right }));
+    assert.ok(mismatch(a.data, b.data) > 0.002, "the document plays");
+    assert.deepEqual(problems, []);
   } finally {
     await browser?.close();
     server.kill();

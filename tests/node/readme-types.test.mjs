@@ -71,6 +71,8 @@ writeFileSync(
         "bunraku/element": [join(root, "dist/element.d.ts")],
         "bunraku/pixi": [join(root, "dist/pixi.d.ts")],
         "pixi.js": [join(root, "node_modules/pixi.js/lib/index.d.ts")],
+        "bunraku/three": [join(root, "dist/three.d.ts")],
+        three: [join(root, "node_modules/@types/three/index.d.ts")],
       },
     },
     // pixi.js's declarations name WebGPU's types (@webgpu/types, its dependency).
