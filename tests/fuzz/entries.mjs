@@ -227,7 +227,7 @@ export function entries(lib) {
         return [outer, holes, some(g, { spacing: pick(g, [0.5, 0.8, 1.5, 3]), minAngle: 28, maxVertices: 200, simulationVertices: pick(g, [0, 20]) })];
       },
       call: (_, a) => Mesh.fromOutline(...a) },
-    { name: "Mesh.contains", on: "mesh", params: [num(), num()], valid: (g, t) => [round(g.rng.range(-2, 12)), round(g.rng.range(-2, 12))],
+    { name: "Mesh.contains", on: "mesh", params: [num({ anyNumber: true }), num({ anyNumber: true })], valid: (g, t) => [round(g.rng.range(-2, 12)), round(g.rng.range(-2, 12))],
       call: (t, a) => t.contains(...a), after: (_, __, { result }) => (typeof result === "boolean" ? null : `contains gave ${result}`) },
     { name: "Mesh.refine", on: "mesh", makes: true, params: [int({ min: 1, max: 64 })], valid: (g) => [1 + g.rng.int(3)],
       call: (t, [k]) => t.refine(k), after: (r, [k], { target: t }) => (r.triangleCount === k * k * t.triangleCount ? null : `refine(${k}) gave ${r.triangleCount} triangles of ${t.triangleCount}`) },
