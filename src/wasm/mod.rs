@@ -43,6 +43,7 @@ mod positions;
 mod puppet;
 mod render;
 mod rig;
+mod settle;
 mod simulation;
 mod spring;
 

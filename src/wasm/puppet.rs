@@ -8,13 +8,13 @@ use super::character::{place_on_parts, SharedCharacter};
 use super::errors::bad_option;
 use super::flatten::quality_object;
 use super::mesh::JsMesh;
-use super::options::{register_options, weights_name, Fields};
+use super::options::{register_options, weights_name};
 use super::pins::{kind_name, overlap, pins, read_rotations, starch, PinOptions};
 use super::positions::positions_out;
 use super::simulation::{mesh_embedding, simulation_option};
 use super::{flat, items, read_exact, typed, Thrown};
 use crate::deform::pins::with_default_radii;
-use crate::deform::{Options, Starch, DEFAULT_SETTLE_SOLVES, MAX_SETTLE_SOLVES};
+use crate::deform::{Options, Starch};
 use crate::simulation::{Embedding, PlacedPins};
 use crate::{Error, Handle, Mesh, Pin, Pinned, Rest, Rotation};
 
@@ -32,17 +32,17 @@ pub struct Puppet {
     rest: Rest,
     /// The rendered mesh and how the simulation mesh carries it (`None`: the mesh solves on
     /// itself, bit for bit as without a simulation mesh).
-    embedding: Option<Embedding>,
+    pub(super) embedding: Option<Embedding>,
     /// The pins as placed on the simulation mesh (empty without one).
-    placed: PlacedPins,
+    pub(super) placed: PlacedPins,
     /// The simulation pins' targets of the last update, and the rendered positions.
-    simulation_targets: Vec<[f64; 2]>,
-    rendered: Vec<[f64; 2]>,
-    pinned: Option<Pinned>,
+    pub(super) simulation_targets: Vec<[f64; 2]>,
+    pub(super) rendered: Vec<[f64; 2]>,
+    pub(super) pinned: Option<Pinned>,
     /// The targets and rotations of the last update, kept so that an update allocates
     /// nothing.
-    targets: Vec<[f64; 2]>,
-    rotations: Vec<Rotation>,
+    pub(super) targets: Vec<[f64; 2]>,
+    pub(super) rotations: Vec<Rotation>,
     /// The starch set before any compile (once compiled, the pin set holds it).
     starch: Vec<Starch>,
     /// Each triangle's depth (`setOverlap`); zeros without overlap regions.
@@ -349,59 +349,6 @@ impl Puppet {
         let solved = self.solve(&targets, &rotations).map(|flat| out.write(flat, &mut staging));
         self.staging = staging;
         solved
-    }
-
-    /// Updates at `targets` (and `rotations`) until the method converges, and returns what
-    /// it did: `{ converged, updates, solves, lag }` (`SettleReport`); the positions are then
-    /// `positions` (or the next `updateInto`'s, at the same targets). For posing in code:
-    /// the stateless methods converge in one update; the injective method continues update
-    /// after update, each with the puppet's own budget, until it converges or the
-    /// back-substitutions spent reach `options.maxSolves` (default 10,000, at most 10⁶):
-    /// counted work, the same on every machine. Before any compile, the rest shape (0 updates),
-    /// as `update` gives it. Throws as `update` does, and `bad-option`;
-    /// the pose is then as it was.
-    #[wasm_bindgen(unchecked_return_type = "SettleReport")]
-    pub fn settle(
-        &mut self,
-        #[wasm_bindgen(unchecked_param_type = "Float64Array")] targets: JsValue,
-        #[wasm_bindgen(unchecked_optional_param_type = "Float64Array | null")] rotations: JsValue,
-        #[wasm_bindgen(unchecked_optional_param_type = "{ maxSolves?: number }")] options: JsValue,
-    ) -> Result<JsValue, Thrown> {
-        let max_solves = match Fields::open(&options, &["maxSolves"])?.count("maxSolves")? {
-            Some(n) if n >= 1 && n <= MAX_SETTLE_SOLVES as usize => n as u32,
-            Some(n) => {
-                let reason = format!("is not a whole number in 1..={MAX_SETTLE_SOLVES}");
-                return Err(bad_option("maxSolves", &(n as f64).into(), &reason));
-            }
-            None => DEFAULT_SETTLE_SOLVES,
-        };
-        read_exact("targets", typed::<Float64Array>("targets", &targets)?, &mut self.targets)?;
-        read_rotations(&rotations, &mut self.rotations)?;
-        let object = js_sys::Object::new();
-        let Some(p) = &mut self.pinned else {
-            // As `update` before any compile: the rest shape, nothing to solve.
-            for (key, value) in
-                [("converged", true.into()), ("updates", 0.into()), ("solves", 0.into()), ("lag", 0.into())]
-            {
-                super::set(&object, key, &value);
-            }
-            return Ok(object.into());
-        };
-        let (report, updates) = match &self.embedding {
-            None => p.settle(&self.targets, &self.rotations, max_solves)?,
-            Some(e) => {
-                crate::deform::check_targets(&self.targets, self.placed.pins.len())?;
-                self.placed.targets(&self.targets, &self.rotations, &mut self.simulation_targets);
-                let settled = p.settle(&self.simulation_targets, &self.rotations, max_solves)?;
-                e.gather(p.positions(), &mut self.rendered);
-                settled
-            }
-        };
-        super::set(&object, "converged", &report.converged.into());
-        super::set(&object, "updates", &(updates as f64).into());
-        super::set(&object, "solves", &(report.solves as f64).into());
-        super::set(&object, "lag", &report.lag.into());
-        Ok(object.into())
     }
 
     /// Reads the targets and rotations into the puppet's own buffers and solves; before any
