@@ -118,7 +118,7 @@ export function removeParameter(held: Held, id: string): MotionHeld {
   motion.parameters = parameters;
   motion.correctives = correctives;
   motion.channels = motion.channels.filter((c) => c.target !== `parameters.${id}`);
-  motion.swings = motion.swings.filter((s) => s.kind !== "parameter" || (s.parameter !== id && s.input !== id));
+  motion.swings = motion.swings.filter((s) => s.kind !== "parameter" || (s.parameter !== id && !("parameter" in s.input && s.input.parameter === id)));
   return motion;
 }
 
@@ -257,7 +257,7 @@ export function addMotion(held: Held, document: PuppetDocument, pose: (positions
     const last = Math.max(...channels.flatMap((c) => c.keys.map((k) => k.t)));
     document.duration = Math.max(motion.duration ?? 0, last);
     if (parameterSwings.length > 0) {
-      document.dynamics = parameterSwings.map((s) => ({ kind: "parameter", parameter: s.parameter, input: { parameter: s.input }, frequency: s.frequency, damping: s.damping, inertia: s.inertia, scale: s.scale }));
+      document.dynamics = parameterSwings.map((s) => ({ kind: "parameter", parameter: s.parameter, input: { ...s.input }, frequency: s.frequency, damping: s.damping, inertia: s.inertia, scale: s.scale }));
     }
     if (pinSwings.length > 0) left.push("the pin swings (a document's pin springs need its pins to play: it plays its channels)");
   } else {
@@ -325,7 +325,7 @@ export function restoreMotion(held: Held, doc: PuppetDocument, poses: Float64Arr
   );
   const swings: Swing[] = (doc.dynamics ?? []).map((d): Swing =>
     d.kind === "parameter"
-      ? { kind: "parameter", parameter: d.parameter, input: d.input.parameter, frequency: d.frequency ?? 1.2, damping: d.damping ?? 0.12, inertia: d.inertia ?? 1, scale: d.scale ?? 1 }
+      ? { kind: "parameter", parameter: d.parameter, input: { ...d.input }, frequency: d.frequency ?? 1.2, damping: d.damping ?? 0.12, inertia: d.inertia ?? 1, scale: d.scale ?? 1 }
       : { kind: "pins", pin: d.pin, root: [...d.root], frequency: d.frequency ?? 1.2, damping: d.damping ?? 0.12, inertia: d.inertia ?? 1, gravity: d.gravity ?? [0, 0], limit: d.limit ?? 0, mix: d.mix ?? 1 },
   );
   const channels = (doc.channels ?? []).map((c) => copyChannel(c as ChannelData));

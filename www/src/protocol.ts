@@ -421,12 +421,16 @@ export interface PinSwing {
   readonly mix: number;
 }
 
-/** A spring on a parameter, kicked by another parameter's motion (a document's
- *  `dynamics` entry of kind "parameter"). */
+/** What kicks a parameter spring: another parameter's motion (the demo's swing tool
+ *  makes these), or a pin's (a document may hold these; the demo keeps them as they are). */
+export type SwingInput = { readonly parameter: string } | { readonly pin: number; readonly axis?: "x" | "y" | "angle" };
+
+/** A spring on a parameter, kicked by an input's motion (a document's `dynamics` entry of
+ *  kind "parameter"). */
 export interface ParameterSwing {
   readonly kind: "parameter";
   readonly parameter: string;
-  readonly input: string;
+  readonly input: SwingInput;
   readonly frequency: number;
   readonly damping: number;
   readonly inertia: number;

@@ -96,7 +96,7 @@ export class Swings {
   swingParameter(parameter: string, input: string): void {
     if (!parameter || !input || parameter === input) return this.parts.say("a parameter swings from another one's motion: choose two");
     const s = this.settings();
-    const swing: ParameterSwing = { kind: "parameter", parameter, input, frequency: s.frequency, damping: s.damping, inertia: s.inertia, scale: 1 };
+    const swing: ParameterSwing = { kind: "parameter", parameter, input: { parameter: input }, frequency: s.frequency, damping: s.damping, inertia: s.inertia, scale: 1 };
     this.swings = [...this.swings.filter((w) => w.kind !== "parameter" || w.parameter !== parameter), swing];
     this.changedSwings();
   }
@@ -145,7 +145,7 @@ export class Swings {
   private prune(rig: Rig | null): void {
     const pins = rig?.pins ?? [];
     const ids = new Set(this.parts.parameters.list.map((p) => p.id));
-    this.swings = this.swings.filter((s) => (s.kind === "pins" ? pins.some((p) => p.id === s.pinId) : ids.has(s.parameter) && ids.has(s.input)));
+    this.swings = this.swings.filter((s) => (s.kind === "pins" ? pins.some((p) => p.id === s.pinId) : ids.has(s.parameter) && ("parameter" in s.input ? ids.has(s.input.parameter) : s.input.pin < pins.length)));
   }
 
   render(): void {
@@ -162,7 +162,7 @@ export class Swings {
     this.el.list.replaceChildren(
       ...this.swings.map((s, k) => {
         const li = document.createElement("li");
-        const what = s.kind === "pins" ? `pin ${(rig?.pins.findIndex((p) => p.id === s.pinId) ?? -1) + 1}` : `${s.parameter} from ${s.input}`;
+        const what = s.kind === "pins" ? `pin ${(rig?.pins.findIndex((p) => p.id === s.pinId) ?? -1) + 1}` : `${s.parameter} from ${"parameter" in s.input ? s.input.parameter : `pin ${s.input.pin + 1} (${s.input.axis ?? "x"})`}`;
         li.append(`${what}: ${s.frequency} Hz, damping ${s.damping}`);
         const remove = document.createElement("button");
         remove.type = "button";
