@@ -4,7 +4,8 @@
 // and `bunraku/psd` (js/psd.ts, js/psd/; it imports ag-psd, which stays a dependency and is
 // not bundled), and the custom element `<bunraku-player>`, `bunraku/element` (js/element.ts,
 // js/element/), and the three.js adapter `bunraku/three` (js/three.ts; it imports three,
-// an optional peer dependency, not bundled), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
+// an optional peer dependency, not bundled), and `bunraku/worker` (js/worker.ts, with the
+// worker script js/worker/thread.ts that it starts by a relative URL), compiled by tsc (strict, the settings of js/tsconfig.json) into dist/index.js,
 // dist/gl.js, dist/gl/*.js, dist/layers.js, dist/layers/*.js, dist/psd.js, dist/psd/*.js,
 // dist/element.js, dist/element/*.js, the PixiJS v8 adapter `bunraku/pixi` (js/pixi.ts: it
 // imports pixi.js, a peer dependency, not bundled) into dist/pixi.js (a second tsc run, js/pixi/tsconfig.json), dist/three.js and
@@ -31,7 +32,7 @@ const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
 /** The package's entries: js/<name>.ts → dist/<name>.js. */
-const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi", "three"];
+const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi", "three", "worker"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];
@@ -41,12 +42,15 @@ const LAYERS_MODULES = ["layer", "trim", "xml", "canvas", "images", "svg"];
 const PSD_MODULES = ["scan", "pixels", "clip", "read"];
 /** The modules of js/element/ (bunraku/element), likewise. */
 const ELEMENT_MODULES = ["load", "painters"];
+/** The modules of js/worker/ (bunraku/worker: its messages and the worker script), likewise. */
+const WORKER_MODULES = ["protocol", "thread"];
 /** Every module of a folder, as a path under js/ (or dist/) without its extension. */
 const MODULES = [
   ...GL_MODULES.map((m) => `gl/${m}`),
   ...LAYERS_MODULES.map((m) => `layers/${m}`),
   ...PSD_MODULES.map((m) => `psd/${m}`),
   ...ELEMENT_MODULES.map((m) => `element/${m}`),
+  ...WORKER_MODULES.map((m) => `worker/${m}`),
 ];
 /** What the build writes into it (besides its stamp). */
 export const GL_FILES = [...ENTRIES, ...MODULES].flatMap((m) => [`${m}.js`, `${m}.d.ts`]);
