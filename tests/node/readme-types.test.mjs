@@ -73,6 +73,7 @@ writeFileSync(
         "pixi.js": [join(root, "node_modules/pixi.js/lib/index.d.ts")],
         "bunraku/three": [join(root, "dist/three.d.ts")],
         three: [join(root, "node_modules/@types/three/index.d.ts")],
+        "bunraku/worker": [join(root, "dist/worker.d.ts")],
       },
     },
     // pixi.js's declarations name WebGPU's types (@webgpu/types, its dependency).
