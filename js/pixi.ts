@@ -11,7 +11,17 @@ import { depthOrder } from "./gl/depth.js";
 
 /** What a `PuppetSprite` draws: a compiled or uncompiled `Puppet`, a `Player` (a loaded
  *  document) or a layered `Character` (its own puppet is made unless `options.puppet`). */
-export type PuppetSpriteSource = Puppet | Player | Character;
+export type PuppetSpriteSource = Puppet | Player | Character | PuppetSpritePositions;
+
+/** Positions computed elsewhere, e.g. by a `PuppetWorker` (`bunraku/worker`, created with
+ *  `output: "float32"`): `positions` (xy, the worker's `positions` after `register`) becomes
+ *  the geometry's positions buffer, `triangles` (the worker's `info.triangles`) are drawn with
+ *  `options.texture` and `options.uvs` (required); show each frame with
+ *  `setPositions(frame.positions)`. */
+export interface PuppetSpritePositions {
+  readonly positions: Float32Array;
+  readonly triangles: Uint32Array;
+}
 
 /** `new PuppetSprite(source, options)`'s options. */
 export interface PuppetSpriteOptions {
@@ -113,6 +123,7 @@ export class PuppetSprite extends Mesh {
     let triangles: Uint32Array;
     let parts: DocPart[] | null = null;
     let ownsPuppet = false;
+    let external: Float32Array | null = null; // positions computed elsewhere
     if (source instanceof Player) {
       player = source;
       uvs = player.uvs;
@@ -140,14 +151,20 @@ export class PuppetSprite extends Mesh {
           uvs[i + 1] = rest[i + 1] / h;
         }
       }
+    } else if (source && source.positions instanceof Float32Array) {
+      if (!options.uvs) throw new TypeError("PuppetSprite: positions computed elsewhere need options.uvs");
+      triangles = source.triangles;
+      uvs = options.uvs;
+      external = source.positions;
     } else {
       throw new TypeError("PuppetSprite: the source is not a Puppet, a Player or a Character");
     }
     if (!texture) throw new TypeError("PuppetSprite: options.texture is required for a puppet or a player");
     const n = uvs.length / 2;
-    const positions = new Float32Array(2 * n);
+    if (external && external.length !== 2 * n) throw new TypeError(`PuppetSprite: positions has ${external.length} numbers, expected ${2 * n} (xy per vertex)`);
+    const positions = external ?? new Float32Array(2 * n);
     if (player) player.positionsInto(0, positions);
-    else positions.set(puppet!.positions);
+    else if (puppet) positions.set(puppet.positions);
     const indices = new Uint32Array(triangles);
     const geometry = new MeshGeometry({ positions, uvs: new Float32Array(uvs), indices });
     // Drawn from its own buffers (a batched mesh is copied into the batcher's).
@@ -175,8 +192,8 @@ export class PuppetSprite extends Mesh {
         this.setDepth(player.triangleDepth);
       }
       this.seek(0);
-    } else if (!(source instanceof Character)) {
-      this.setDepth(puppet!.triangleDepth);
+    } else if (puppet && !(source instanceof Character)) {
+      this.setDepth(puppet.triangleDepth);
     }
     if (options.pins && puppet) this.enablePins(puppet);
     if (this.playing || options.pins) {
@@ -193,6 +210,18 @@ export class PuppetSprite extends Mesh {
     if (rotations) puppet.updateInto(targets, this.positions, rotations);
     else puppet.updateInto(targets, this.positions);
     this.positionBuffer.update();
+  }
+
+  /** Shows positions computed elsewhere (a `PuppetWorker`'s `frame.positions`, xy): the array
+   *  becomes the geometry's positions buffer's, with no copy, marked for upload. Call it
+   *  with every frame the worker gives (it writes again into the memory of the frame before
+   *  last). Throws for another length. */
+  setPositions(positions: Float32Array): void {
+    if (!(positions instanceof Float32Array) || positions.length !== this.positions.length) {
+      throw new TypeError(`PuppetSprite.setPositions: expected a Float32Array of ${this.positions.length} numbers (xy per vertex)`);
+    }
+    (this as { positions: Float32Array }).positions = positions;
+    this.positionBuffer.data = positions;
   }
 
   /** A player's time in seconds (setting it seeks). */

@@ -53,7 +53,13 @@ export type PuppetMeshSource =
    *  `player.atlas.url`). */
   | { readonly player: Player; readonly picture: PuppetPicture }
   /** A layered character: its atlas is the picture; `puppet` defaults to `character.puppet()`. */
-  | { readonly character: Character; readonly puppet?: Puppet };
+  | { readonly character: Character; readonly puppet?: Puppet }
+  /** Positions computed elsewhere, e.g. by a `PuppetWorker` (`bunraku/worker`, created with
+   *  `output: "float32", stride: 3`): `positions` (xyz, one triple per vertex; the worker's
+   *  `positions` after `register`) becomes the position attribute's array, `triangles` (the
+   *  worker's `info.triangles`) and `uvs` (`mesh.uvs`) are drawn; show each frame with
+   *  `setPositions(frame.positions)`. */
+  | { readonly positions: Float32Array; readonly triangles: Uint32Array; readonly uvs: Float32Array; readonly picture: PuppetPicture };
 
 /** `PuppetMesh`'s options. */
 export interface PuppetMeshOptions {
@@ -161,7 +167,7 @@ function toTexture(picture: PuppetPicture, mipmaps: boolean): THREE.Texture {
  */
 export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasicMaterial | THREE.MeshBasicMaterial[], PuppetMeshEventMap> {
   /** The positions `[x0, y0, 0, x1, y1, 0, …]`: the position attribute's array itself,
-   *  written by the solver or the player on every update (never replaced). */
+   *  written by the solver or the player on every update (replaced only by `setPositions`). */
   readonly positions: Float32Array;
   /** The puppet posed by `update` (a puppet or a character), or null. */
   readonly puppet: Puppet | null;
@@ -191,6 +197,7 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     let parts: PuppetMeshPart[] | null = null;
     let order: number[] | null = null;
     let depth: Float32Array | null = null;
+    let external: Float32Array | null = null; // positions computed elsewhere
     if ("character" in source) {
       const c = source.character;
       puppet = source.puppet ?? c.puppet();
@@ -233,6 +240,8 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
         }
       }
       depth = parts ? null : player.triangleDepth;
+    } else if ("positions" in source) {
+      ({ picture, uvs, triangles, positions: external } = source);
     } else {
       puppet = source.puppet;
       picture = source.picture;
@@ -240,11 +249,12 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
       triangles = puppet.triangles;
       depth = puppet.triangleDepth;
     }
-    const count = puppet ? puppet.vertexCount : player!.vertexCount;
+    const count = puppet ? puppet.vertexCount : player ? player.vertexCount : uvs.length / 2;
     if (uvs.length !== 2 * count) throw new Error(`PuppetMesh: uvs has ${uvs.length} numbers, expected ${2 * count} (one [u, v] per vertex)`);
 
     const geometry = new THREE.BufferGeometry();
-    const positions = new Float32Array(3 * count);
+    if (external && external.length !== 3 * count) throw new Error(`PuppetMesh: positions has ${external.length} numbers, expected ${3 * count} (xyz per vertex)`);
+    const positions = external ?? new Float32Array(3 * count);
     const attribute = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
     geometry.setAttribute("position", attribute);
     geometry.setAttribute("uv", new THREE.BufferAttribute(uvs.slice(), 2));
@@ -270,9 +280,24 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     if (puppet) {
       this.targets = puppet.handles.slice();
       this.writePositions(puppet.positions);
-    } else {
+    } else if (player) {
       this.seek(0);
+    } else {
+      this.posed();
     }
+  }
+
+  /** Shows positions computed elsewhere (a `PuppetWorker`'s `frame.positions`, xyz): the
+   *  array becomes the position attribute's, with no copy, marked for upload; the bounds
+   *  follow. Call it with every frame the worker gives (it writes again into the memory of
+   *  the frame before last). Throws for another length. */
+  setPositions(positions: Float32Array): void {
+    if (!(positions instanceof Float32Array) || positions.length !== this.positions.length) {
+      throw new Error(`PuppetMesh.setPositions: expected a Float32Array of ${this.positions.length} numbers (xyz per vertex)`);
+    }
+    (this as { positions: Float32Array }).positions = positions;
+    this.attribute.array = positions;
+    this.posed();
   }
 
   /** Poses the puppet: `puppet.updateInto(targets, positions, rotations)`, written straight

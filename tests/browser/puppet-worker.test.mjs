@@ -6,7 +6,9 @@
 // updates made while one is in flight coalesce (latest wins: two solves for ten calls, and
 // the result is the last targets'); errors reject with the library's codes and leave the
 // puppet as it was; terminate rejects what is pending with `freed`, and a new worker works
-// after it; a worker that fails inside rejects its pending requests with `freed`; and the
+// after it; a worker that fails inside rejects its pending requests with `freed`; the
+// three.js and Pixi adapters draw a worker's frames (`setPositions`, the frame's array taken
+// as the GPU buffer's, no copy) with the same pixels as from a main-thread puppet; and the
 // pages report no error. (The demo's own worker is tests/browser/worker.test.mjs.)
 //
 //   node scripts/build-gl.mjs && node --test tests/browser/puppet-worker.test.mjs
@@ -22,7 +24,9 @@ import { CHROMIUM, CHROMIUM_ARGS } from "./_harness.mjs";
 const TIMEOUT = 180_000;
 const ROOT = fileURLToPath(new URL("../../", import.meta.url));
 
-const HTML = `<!doctype html><html><body><script type="module">
+const HTML = `<!doctype html><html><body>
+<script type="importmap">{ "imports": { "three": "/three/three.module.js", "pixi.js": "/pixi.mjs" } }</script>
+<script type="module">
   import init, * as bunraku from "/index.js";
   import { PuppetWorker } from "/worker.js";
   await init();
@@ -64,7 +68,9 @@ async function inPage({ origin, isolated }, check) {
     await context.route(`${origin}/**`, (route) => {
       const path = new URL(route.request().url()).pathname;
       const reply = (contentType, body) => route.fulfill({ contentType, body, headers });
-      if (/^\/(index|worker)\.js$|^\/worker\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
+      if (/^\/(index|worker|three|pixi)\.js$|^\/(worker|gl)\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
+      if (/^\/three\/three\.\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${ROOT}node_modules/three/build/${path.slice(7)}`, "utf8"));
+      if (path === "/pixi.mjs") return reply("text/javascript", readFileSync(`${ROOT}node_modules/pixi.js/dist/pixi.min.mjs`, "utf8"));
       if (path === "/pkg/bunraku.js") return reply("text/javascript", readFileSync(`${ROOT}pkg/bunraku.js`, "utf8"));
       if (path === "/pkg/bunraku_bg.wasm") return reply("application/wasm", readFileSync(`${ROOT}pkg/bunraku_bg.wasm`));
       if (path === "/failing.js") return reply("text/javascript", FAILING);
@@ -331,5 +337,108 @@ test("survives terminate and re-creation; a worker that fails rejects what is pe
       round2: true,
       failed: ["freed", "freed", true, "freed"],
     });
+  });
+});
+
+test("bunraku/three and bunraku/pixi draw a PuppetWorker's frames as they draw the main-thread puppet's, with no copy", { timeout: TIMEOUT }, async () => {
+  await inPage({ origin: "http://bunraku-worker.test" }, async (page) => {
+    await page.evaluate(DEFINE_DRAG);
+    const r = await page.evaluate(async () => {
+      const THREE = await import("three");
+      const { PuppetMesh } = await import("/three.js");
+      const PIXI = await import("pixi.js");
+      const { PuppetSprite } = await import("/pixi.js");
+      const size = 400;
+      const mesh = star();
+      const rest = mesh.vertices;
+      const uvs = new Float32Array(rest.length);
+      for (let i = 0; i < rest.length; i++) uvs[i] = (rest[i] + 200) / size;
+      // A checkered picture, so that a moved triangle shows.
+      const data = new Uint8ClampedArray(size * size * 4);
+      for (let y = 0; y < size; y++) for (let x = 0; x < size; x++) data.set((x >> 4) % 2 === (y >> 4) % 2 ? [200, 40, 40, 255] : [30, 60, 200, 255], 4 * (y * size + x));
+      const picture = { data, width: size, height: size };
+      const options = { method: "two-step" };
+      const handles = new Float64Array([0, 0, 190, 0]);
+      const poses = [new Float64Array([0, 0, 150, 110]), new Float64Array([0, 0, 60, 170]), new Float64Array([0, 0, -120, 80])];
+      const main = bunraku.Puppet.register(mesh.vertices, mesh.triangles, options);
+      main.compile(handles);
+      const pixels = (canvas) => {
+        const c = new OffscreenCanvas(canvas.width, canvas.height);
+        const ctx = c.getContext("2d");
+        ctx.drawImage(canvas, 0, 0);
+        return ctx.getImageData(0, 0, c.width, c.height).data;
+      };
+      const differing = (a, b) => a.reduce((n, v, i) => n + (v !== b[i] ? 1 : 0), 0);
+      const out = { three: [], pixi: [] };
+
+      // three.js: an orthographic y-down camera over [−200, 200]².
+      const canvas = document.createElement("canvas");
+      document.body.append(canvas);
+      const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
+      renderer.setPixelRatio(1);
+      renderer.setSize(size, size, false);
+      renderer.setClearColor(0xffffff, 1);
+      const camera = new THREE.OrthographicCamera(-200, 200, -200, 200, 0.1, 100);
+      camera.position.set(0, 0, 10);
+      const drawThree = (object) => {
+        const scene = new THREE.Scene();
+        scene.add(object);
+        renderer.render(scene, camera);
+        return pixels(canvas);
+      };
+      const worker3 = await PuppetWorker.create({ output: "float32", stride: 3 });
+      const info3 = await worker3.register(mesh.vertices, mesh.triangles, options);
+      await worker3.compile(handles);
+      const fromMain = new PuppetMesh({ puppet: main, uvs, picture });
+      const fromWorker = new PuppetMesh({ positions: worker3.positions, triangles: info3.triangles, uvs, picture });
+      const restPixels = drawThree(fromWorker);
+      for (const targets of poses) {
+        fromMain.update(targets);
+        const frame = await worker3.update(targets);
+        fromWorker.setPositions(frame.positions);
+        const a = drawThree(fromMain);
+        const b = drawThree(fromWorker);
+        out.three.push({ differing: differing(a, b), moved: differing(b, restPixels) > 1000, same: fromWorker.geometry.getAttribute("position").array === frame.positions });
+      }
+      worker3.terminate();
+      renderer.dispose();
+      canvas.remove();
+
+      // Pixi: the sprite at (200, 200).
+      const app = new PIXI.Application();
+      await app.init({ width: size, height: size, background: "#ffffff", preference: "webgl", preserveDrawingBuffer: true, antialias: false, autoStart: false, resolution: 1 });
+      document.body.append(app.canvas);
+      const source = document.createElement("canvas");
+      source.width = source.height = size;
+      source.getContext("2d").putImageData(new ImageData(data, size, size), 0, 0);
+      const texture = PIXI.Texture.from(source);
+      const drawPixi = (sprite) => {
+        app.stage.removeChildren();
+        sprite.position.set(200, 200);
+        app.stage.addChild(sprite);
+        app.render();
+        return pixels(app.canvas);
+      };
+      main.reset();
+      const workerP = await PuppetWorker.create({ output: "float32" });
+      const infoP = await workerP.register(mesh.vertices, mesh.triangles, options);
+      await workerP.compile(handles);
+      const spriteMain = new PuppetSprite(main, { texture, uvs });
+      const spriteWorker = new PuppetSprite({ positions: workerP.positions, triangles: infoP.triangles }, { texture, uvs });
+      const restP = drawPixi(spriteWorker);
+      for (const targets of poses) {
+        spriteMain.update(targets);
+        const frame = await workerP.update(targets);
+        spriteWorker.setPositions(frame.positions);
+        const a = drawPixi(spriteMain);
+        const b = drawPixi(spriteWorker);
+        out.pixi.push({ differing: differing(a, b), moved: differing(b, restP) > 1000, same: spriteWorker.geometry.getBuffer("aPosition").data === frame.positions });
+      }
+      workerP.terminate();
+      app.destroy();
+      return out;
+    });
+    const expected = [0, 1, 2].map(() => ({ differing: 0, moved: true, same: true }));
+    assert.deepEqual(r, { three: expected, pixi: expected });
   });
 });
