@@ -1,6 +1,6 @@
 // `bunraku/worker` (js/worker.ts and js/worker/, built into dist/) in headless Chromium:
 // `PuppetWorker` gives positions bit-identical (compared as bytes, Float64 and Float32 with
-// stride 3) to a main-thread `Puppet` over a drag of many frames, with transferred buffers
+// stride 3; a mesh on its simulation mesh too) to a main-thread `Puppet` over a drag of many frames, with transferred buffers
 // on a plain page and with `SharedArrayBuffer`s on a cross-origin isolated one (COOP and
 // COEP headers; the positions' buffer is then shared and the Atomics frame counter follows);
 // updates made while one is in flight coalesce (latest wins: two solves for ten calls, and
@@ -169,6 +169,29 @@ test("transferred buffers: bit-identical to the main-thread puppet over a drag (
     );
     const f32 = await page.evaluate(drag, { options: { output: "float32", stride: 3 }, register: DETERMINISTIC, frames: 40, output: "float32" });
     assert.deepEqual({ differing: f32.differing, moved: f32.moved, type: f32.type, length: f32.length }, { differing: [], moved: true, type: "Float32Array", length: 3 * f32.vertices });
+    // A mesh with a simulation mesh (refined): fromMesh solves on it, as Puppet.fromMesh does.
+    const refined = await page.evaluate(() =>
+      (async () => {
+        const coarse = star();
+        const mesh = coarse.refine(2);
+        const main = bunraku.Puppet.fromMesh(mesh, { maxSolves: 25 });
+        const worker = await PuppetWorker.create();
+        const info = await worker.fromMesh(mesh, { maxSolves: 25 });
+        const handles = new Float64Array([0, 0, 190, 0]);
+        main.compile(handles);
+        await worker.compile(handles);
+        let differing = 0;
+        for (let f = 1; f <= 10; f++) {
+          const targets = new Float64Array([0, 0, 190 - 6 * f, 9 * f]);
+          const a = main.update(targets);
+          const b = (await worker.update(targets)).positions;
+          if (a.length !== b.length || a.some((v, i) => !Object.is(v, b[i]))) differing++;
+        }
+        worker.terminate();
+        return { differing, simulation: info.simulationVertexCount === coarse.vertexCount && info.vertexCount > coarse.vertexCount };
+      })(),
+    );
+    assert.deepEqual(refined, { differing: 0, simulation: true });
     // The comparison can fail: a worker with another handle weight parts from the main thread.
     const other = await page.evaluate(() =>
       (async () => {
