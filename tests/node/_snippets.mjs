@@ -24,15 +24,15 @@ export function snippets(source, prefix) {
   let open = null;
   markdown.split("\n").forEach((line, k) => {
     if (open) {
-      if (/^```\s*$/.test(line)) {
+      if (/^\s*```\s*$/.test(line)) {
         found.push(open);
         open = null;
-      } else open.lines.push(line);
+      } else open.lines.push(line.slice(open.indent)); // a fence in a list item is indented
     } else if (/^#{1,6} /.test(line)) heading = line.replace(/^#+ /, "");
     else {
-      const fence = line.match(/^```(\w+)/);
-      if (fence && ["js", "ts", "javascript", "typescript"].includes(fence[1])) {
-        open = { lang: fence[1], line: k + 2, heading, lines: [] };
+      const fence = line.match(/^(\s*)```(\w+)/);
+      if (fence && ["js", "ts", "javascript", "typescript"].includes(fence[2])) {
+        open = { lang: fence[2], line: k + 2, heading, lines: [], indent: fence[1].length };
       }
     }
   });
@@ -115,7 +115,7 @@ export function typeCheck(tsc, blocks, { webgpu = true } = {}) {
 export function errorsIn(s, errors) {
   return errors
     .filter((e) => e.file.endsWith(`/${s.name}`) || e.file === s.name)
-    .map((e) => `${s.source}:${s.line + e.line - 1}:${e.column}: ${e.text}`);
+    .map((e) => `${s.source}:${s.line + e.line - 1}:${e.column + s.indent}: ${e.text}`);
 }
 
 /** Whether every error of `errors` lies in a snippet of `blocks` or in tests/types/api.ts
