@@ -61,6 +61,17 @@ export function changed(a, b) {
   return n / (a.data.length / 4);
 }
 
+/** A mouse drag on `page` from `from` to `to` (page pixels) in ten moves 20 ms apart. */
+export async function drag(page, from, to) {
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) {
+    await page.mouse.move(from.x + ((to.x - from.x) * k) / 10, from.y + ((to.y - from.y) * k) / 10);
+    await page.waitForTimeout(20);
+  }
+  await page.mouse.up();
+}
+
 /**
  * The page of examples/esbuild and examples/webpack at `url`: no console error; the
  * gingerbread drawn at half scale 8 px into `#stage` (its pixel (px, py) at
@@ -84,13 +95,7 @@ export async function checkBundledPage(browser, url, t) {
     const beside = ({ x, y }) => ({ x: x - 10, y });
     const before = PNG.sync.read(await page.screenshot());
     assert.ok(cookie(before, beside(hand)) && !cookie(before, beside(to)), "the hand is drawn at rest, nothing where it is dragged to");
-    await page.mouse.move(hand.x, hand.y);
-    await page.mouse.down();
-    for (let k = 1; k <= 10; k++) {
-      await page.mouse.move(hand.x + ((to.x - hand.x) * k) / 10, hand.y + ((to.y - hand.y) * k) / 10);
-      await page.waitForTimeout(20);
-    }
-    await page.mouse.up();
+    await drag(page, hand, to);
     // The default method follows a fast drag over the next frames: until it has converged.
     await page.waitForFunction(() => document.querySelector("#status").dataset.converged === "true", null, { timeout: 30_000 });
     await page.waitForTimeout(200);

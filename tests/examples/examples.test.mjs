@@ -23,7 +23,7 @@ import { join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 import { CHROMIUM, CHROMIUM_ARGS } from "../browser/_harness.mjs";
-import { checkBundledPage, serveFiles } from "./_bundled.mjs";
+import { checkBundledPage, cookie, drag, serveFiles } from "./_bundled.mjs";
 import { PNG } from "pngjs";
 import { initSync, Player, Renderer } from "../../pkg/bunraku.js";
 import { buildGL } from "../../scripts/build-gl.mjs";
@@ -296,22 +296,11 @@ test("examples/three type-checks, builds and runs in Chromium with the real thre
     const box = await page.locator("#stage").boundingBox();
     const at = (px, py) => ({ x: box.x + (16 + px) / 2, y: box.y + (16 + py) / 2 });
     const shot = async () => PNG.sync.read(await page.screenshot());
-    const cookie = (png, { x, y }) => {
-      const i = 4 * (Math.round(y) * png.width + Math.round(x));
-      const [r, g, b] = png.data.subarray(i, i + 3);
-      return r >= 150 && r - b > 60 && r - g > 30;
-    };
     const hand = at(597, 345); // the right hand, at rest
     const to = at(697, 205);
     const before = await shot();
     assert.ok(cookie(before, hand) && !cookie(before, to), "the hand is drawn at rest, nothing where it is dragged to");
-    await page.mouse.move(hand.x, hand.y);
-    await page.mouse.down();
-    for (let k = 1; k <= 10; k++) {
-      await page.mouse.move(hand.x + ((to.x - hand.x) * k) / 10, hand.y + ((to.y - hand.y) * k) / 10);
-      await page.waitForTimeout(20);
-    }
-    await page.mouse.up();
+    await drag(page, hand, to);
     await status.filter({ hasText: /, 1 pins, / }).waitFor({ timeout: 10_000 });
     await page.waitForTimeout(500); // the default method refines over the next frames
     const after = await shot();
