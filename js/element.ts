@@ -21,9 +21,6 @@ import { makePainter, type DocumentPart, type Painter } from "./element/painters
 
 export type { BunrakuPlayerErrorCode, BunrakuPlayerErrorDetail } from "./element/load.js";
 
-/** Where the wasm module is unless the `wasm` attribute says otherwise: beside the glue. */
-const DEFAULT_WASM = new URL("../pkg/bunraku_bg.wasm", import.meta.url);
-
 /** The attributes the element reads (each also a property). */
 const ATTRIBUTES = ["src", "autoplay", "loop", "speed", "parameters", "renderer", "wasm"] as const;
 
@@ -71,8 +68,10 @@ function parseParameters(text: string | null): ParameterValues {
  * real time), `parameters` (a JSON object of live parameter values, `player.setValue`),
  * `renderer` (`"webgl2"` or `"2d"` to force one), `wasm` (the wasm module's URL, read at
  * first use). Methods `play()`, `pause()`, `seek(t)`; getters `currentTime`, `duration`,
- * `paused`, `player`, `transform`. Events: `load` (the first frame is drawn) and `error`
- * (a `CustomEvent` whose `detail` is `{ code, message }`: `BunrakuPlayerErrorDetail`).
+ * `paused`, `player`, `transform`. Events: `load` (the first frame is drawn), `ended` (a
+ * non-looping animation played to its end, or back to its start at a negative speed, and
+ * stopped there) and `error` (a `CustomEvent` whose `detail` is `{ code, message }`:
+ * `BunrakuPlayerErrorDetail`).
  */
 export class BunrakuPlayer extends Base {
   /** The attributes whose changes the element follows. */
@@ -94,6 +93,7 @@ export class BunrakuPlayer extends Base {
   private last = -1; // the previous frame's timestamp, -1 after a stop
   private speedValue = 1;
   private announced = false; // `load` was dispatched for this document
+  private ending = false; // a non-looping animation reached its end in this frame: `ended` is due
   private changed = false; // parameters were set since the last frame
   private readonly applied = new Set<string>(); // parameter ids set by the attribute
   private intersection: IntersectionObserver | null = null;
@@ -169,8 +169,8 @@ export class BunrakuPlayer extends Base {
     else this.setAttribute("renderer", value);
   }
 
-  /** The wasm module's URL (default: `bunraku_bg.wasm` of the package), read when the
-   *  first element of the page initialises it. */
+  /** The wasm module's URL (default: `bunraku_bg.wasm` beside the package's glue, or
+   *  where a bundler put it), read when the first element of the page initialises it. */
   get wasm(): string {
     return this.getAttribute("wasm") ?? "";
   }
@@ -304,7 +304,7 @@ export class BunrakuPlayer extends Base {
     let player: Player | null = null;
     try {
       const wasm = this.getAttribute("wasm");
-      await ensureWasm(wasm ? new URL(wasm, document.baseURI) : DEFAULT_WASM);
+      await ensureWasm(wasm ? new URL(wasm, document.baseURI) : null);
       if (mine !== this.loading) return;
       const url = new URL(src, document.baseURI);
       const text = await (await fetchOk(url, "the document", abort.signal)).text();
@@ -403,6 +403,10 @@ export class BunrakuPlayer extends Base {
     this.draw();
     if (this.running) this.request = requestAnimationFrame(this.tick);
     else this.last = -1;
+    if (this.ending) {
+      this.ending = false;
+      this.dispatchEvent(new Event("ended"));
+    }
   }
 
   /** Moves the time on by `dt` seconds, stopping at the end of a non-looping animation. */
@@ -418,6 +422,7 @@ export class BunrakuPlayer extends Base {
     else if (t >= d || t <= 0) {
       this.time = Math.min(d, Math.max(0, t));
       if (dt !== 0) this.playing = false;
+      this.ending = dt !== 0;
     } else this.time = t;
   }
 
@@ -480,10 +485,11 @@ export class BunrakuPlayer extends Base {
   }
 }
 
-/** The element's events: `load` (the first frame is drawn) and `error` (with its code),
- *  besides an element's own. */
+/** The element's events: `load` (the first frame is drawn), `ended` (a non-looping
+ *  animation stopped at its end) and `error` (with its code), besides an element's own. */
 export interface BunrakuPlayerEventMap extends Omit<HTMLElementEventMap, "error"> {
   load: Event;
+  ended: Event;
   error: CustomEvent<BunrakuPlayerErrorDetail>;
 }
 

@@ -14,9 +14,9 @@
 #                                          (builds www/dist/ first, with its type check,
 #                                          when it is out of date), and bunraku/gl there
 #   7. node --test tests/examples/         the npm package as users get it: `npm pack`,
-#                                          installed into copies of examples/node and
-#                                          examples/vite (Vite build opened in Chromium:
-#                                          the drag page and the playback page)
+#                                          installed into copies of examples/ (node runs;
+#                                          vite, pixi, three, esbuild, webpack built, and
+#                                          they and the element page opened in Chromium)
 # and prints the total of the runners' counts as a last line.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"

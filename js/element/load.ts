@@ -38,11 +38,15 @@ export function detailOf(error: unknown): BunrakuPlayerErrorDetail {
 
 let wasmReady: Promise<unknown> | null = null;
 
-/** Initialises the wasm module once for the page, from `url`. Throws `fetch-failed`. */
-export function ensureWasm(url: URL): Promise<unknown> {
-  wasmReady ??= init({ module_or_path: url }).catch((e: unknown) => {
+/** Initialises the wasm module once for the page, from `url`, or (null) where the glue
+ *  finds it: `new URL("bunraku_bg.wasm", import.meta.url)` in pkg/bunraku.js, which
+ *  bundlers follow (webpack 5, Vite) or leave beside the bundle (esbuild). Throws
+ *  `fetch-failed`. */
+export function ensureWasm(url: URL | null): Promise<unknown> {
+  wasmReady ??= init(url ? { module_or_path: url } : undefined).catch((e: unknown) => {
     wasmReady = null; // another element may try again
-    throw coded("fetch-failed", `the wasm module could not be loaded from ${url.href}: ${e instanceof Error ? e.message : String(e)}`, e);
+    const where = url ? url.href : "bunraku_bg.wasm beside the package's glue (or the bundle)";
+    throw coded("fetch-failed", `the wasm module could not be loaded from ${where}: ${e instanceof Error ? e.message : String(e)}`, e);
   });
   return wasmReady;
 }

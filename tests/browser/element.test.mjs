@@ -203,6 +203,38 @@ test("it plays: frames are drawn and the time goes on; it loops; with loop=\"fal
   });
 });
 
+test("ended fires once when a non-looping animation stops at its end (or at 0 playing backwards), never for a looping one", { timeout: TIMEOUT }, async () => {
+  await inPage(`<bunraku-player id="a" ${GINGER} ${BOX} autoplay loop speed="8"></bunraku-player>
+                <bunraku-player id="b" ${GINGER} ${BOX} autoplay loop="false" speed="8"></bunraku-player>`, async (page) => {
+    await page.evaluate(() => {
+      window.ended = [];
+      for (const el of document.querySelectorAll("bunraku-player")) {
+        el.addEventListener("ended", () => window.ended.push({ id: el.id, time: el.currentTime, paused: el.paused, duration: el.duration }));
+      }
+    });
+    await loaded(page, "a", "b");
+    await page.waitForFunction(() => window.ended.length > 0, null, { timeout: 30_000 });
+    const r = await page.evaluate(async () => {
+      const b = document.querySelector("#b");
+      await window.framesIn(300); // the looping one wraps meanwhile: no event
+      const first = [...window.ended];
+      // Again from the start, then backwards from the middle to 0.
+      b.play();
+      await new Promise((done) => b.addEventListener("ended", done, { once: true }));
+      b.speed = -8;
+      b.seek(b.duration / 2);
+      b.play();
+      await new Promise((done) => b.addEventListener("ended", done, { once: true }));
+      return { first, all: window.ended, wrapped: document.querySelector("#a").paused === false };
+    });
+    assert.equal(r.first.length, 1, `one ended event: ${JSON.stringify(r.first)}`);
+    const [end] = r.first;
+    assert.deepEqual({ id: end.id, paused: end.paused, time: end.time }, { id: "b", paused: true, time: end.duration }, "at its end, paused");
+    assert.ok(r.wrapped, "the looping element plays on");
+    assert.deepEqual(r.all.map((e) => [e.id, e.time === e.duration ? "end" : e.time === 0 ? "start" : e.time]), [["b", "end"], ["b", "end"], ["b", "start"]]);
+  });
+});
+
 test("pause stops the frames; play resumes from the same time", { timeout: TIMEOUT }, async () => {
   await inPage(`<bunraku-player id="a" ${GINGER} ${BOX} autoplay loop></bunraku-player>`, async (page) => {
     await loaded(page, "a");

@@ -7,8 +7,12 @@
 // drawing the `Player`'s positions in Node. The Node examples run, playing that document
 // too. examples/pixi (a PixiJS v8 app on bunraku/pixi, with the real pixi.js from npm) is
 // type-checked, built and opened the same way: a press pins the gingerbread, a drag poses
-// it, and the document plays. Needs the npm registry (vite, typescript, pixi.js, pngjs) and
-// /usr/bin/chromium.
+// it, and the document plays. examples/esbuild and examples/webpack (the README's bundler
+// recipes: esbuild with the wasm copied beside the bundle, webpack 5 emitting it as an asset
+// module) are type-checked, built and served as plain files: a pin dragged, a document
+// played (tests/examples/_bundled.mjs). examples/element, a plain HTML page loading
+// `<bunraku-player>` as a module script, plays the document. Needs the npm registry (vite,
+// typescript, pixi.js, esbuild, webpack, pngjs) and /usr/bin/chromium.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync, spawn } from "node:child_process";
@@ -19,6 +23,7 @@ import { join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 import { CHROMIUM, CHROMIUM_ARGS } from "../browser/_harness.mjs";
+import { checkBundledPage, cookie, drag, serveFiles } from "./_bundled.mjs";
 import { PNG } from "pngjs";
 import { initSync, Player, Renderer } from "../../pkg/bunraku.js";
 import { buildGL } from "../../scripts/build-gl.mjs";
@@ -291,22 +296,11 @@ test("examples/three type-checks, builds and runs in Chromium with the real thre
     const box = await page.locator("#stage").boundingBox();
     const at = (px, py) => ({ x: box.x + (16 + px) / 2, y: box.y + (16 + py) / 2 });
     const shot = async () => PNG.sync.read(await page.screenshot());
-    const cookie = (png, { x, y }) => {
-      const i = 4 * (Math.round(y) * png.width + Math.round(x));
-      const [r, g, b] = png.data.subarray(i, i + 3);
-      return r >= 150 && r - b > 60 && r - g > 30;
-    };
     const hand = at(597, 345); // the right hand, at rest
     const to = at(697, 205);
     const before = await shot();
     assert.ok(cookie(before, hand) && !cookie(before, to), "the hand is drawn at rest, nothing where it is dragged to");
-    await page.mouse.move(hand.x, hand.y);
-    await page.mouse.down();
-    for (let k = 1; k <= 10; k++) {
-      await page.mouse.move(hand.x + ((to.x - hand.x) * k) / 10, hand.y + ((to.y - hand.y) * k) / 10);
-      await page.waitForTimeout(20);
-    }
-    await page.mouse.up();
+    await drag(page, hand, to);
     await status.filter({ hasText: /, 1 pins, / }).waitFor({ timeout: 10_000 });
     await page.waitForTimeout(500); // the default method refines over the next frames
     const after = await shot();
@@ -518,5 +512,58 @@ test("examples/pixi type-checks, builds and runs in Chromium: pointer pins drag 
   } finally {
     await browser?.close();
     server.kill();
+  }
+});
+
+/** Builds the example `name` (`npm run build`: tsc, then the bundler) and checks its page,
+ *  served as plain files from `served` below the example's folder, at `path`. */
+async function bundled(name, served, path, emitted, t) {
+  const dir = install(name, [["assets", "assets"]]);
+  run("npm", ["run", "build"], dir);
+  const files = readdirSync(join(dir, "dist"));
+  assert.ok(files.includes(emitted), `dist/${emitted} is emitted (${files})`);
+  const server = await serveFiles(join(dir, served));
+  let browser;
+  try {
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+    await checkBundledPage(browser, `${server.origin}${path}`, t);
+  } finally {
+    await browser?.close();
+    await server.close();
+  }
+}
+
+test("examples/esbuild type-checks, builds (the wasm copied beside the bundle) and runs in Chromium: a pin dragged, the document played by <bunraku-player>", { timeout: 10 * MINUTE }, (t) =>
+  bundled("esbuild", "dist", "/", "bunraku_bg.wasm", t));
+
+test("examples/webpack type-checks, builds (webpack 5 emits the wasm as an asset module) and runs in Chromium: a pin dragged, the document played", { timeout: 10 * MINUTE }, (t) =>
+  bundled("webpack", ".", "/index.html", "bunraku_bg.wasm", t));
+
+test("examples/element: <bunraku-player> as a module script in a plain page plays the document", { timeout: 10 * MINUTE }, async () => {
+  install("element", [["assets", "assets"]]);
+  const server = await serveFiles(work); // the page refers to ../../assets/
+  let browser;
+  try {
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+    const page = await browser.newPage({ viewport: { width: 800, height: 600 } });
+    const problems = [];
+    page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+    page.on("pageerror", (e) => problems.push(String(e)));
+    await page.goto(`${server.origin}/examples/element/index.html`);
+    await page.locator("#status", { hasText: /^playing \d+\.\d\d s$/ }).waitFor({ timeout: 30_000 });
+    const times = await page.evaluate(async () => {
+      const player = document.querySelector("#player");
+      const first = player.currentTime;
+      await new Promise((done) => setTimeout(done, 500));
+      return { first, later: player.currentTime, paused: player.paused, duration: player.duration };
+    });
+    assert.ok(!times.paused && times.later !== times.first, `it plays: ${JSON.stringify(times)}`);
+    // A click pauses it (the page's own handler).
+    await page.locator("#player").click();
+    assert.equal(await page.evaluate(() => document.querySelector("#player").paused), true);
+    assert.deepEqual(problems, []);
+  } finally {
+    await browser?.close();
+    await server.close();
   }
 });

@@ -1,7 +1,7 @@
-// The names that README.md's snippets use without declaring them: what the prose around
+// The names that README.md's and docs/*.md's snippets use without declaring them: what the prose around
 // each snippet supposes the reader already has. A global script (no import or export at
 // the top level), so that every snippet, a module of its own, sees these names and its own
-// declarations shadow them. Read by tests/node/readme-types.test.mjs.
+// declarations shadow them. Read by tests/node/_snippets.mjs.
 
 declare const canvas: HTMLCanvasElement;
 declare const ctx: CanvasRenderingContext2D;
@@ -21,6 +21,17 @@ declare const triangles: Uint32Array;
 declare const objText: string;
 // A file the user dropped or picked ("Layered characters").
 declare const file: File;
+// docs/layers.md: an SVG's text and two pictures.
+declare const svgText: string;
+declare const torsoBitmap: ImageBitmap;
+declare const armImageData: ImageData;
+// docs/puppet-document.md: a time in seconds, a picture's size, a recorded track, and a
+// function of the page's that saves a file.
+declare const t: number;
+declare const width: number;
+declare const height: number;
+declare const track: import("bunraku").Track;
+declare function download(text: string): void;
 
 // Vite's `?url` imports (vite/client declares them in a Vite project).
 declare module "*?url" {
