@@ -32,7 +32,7 @@ const root = fileURLToPath(new URL("..", import.meta.url));
 /** Where the helper is built. */
 export const GL_DIST = join(root, "dist");
 /** The package's entries: js/<name>.ts → dist/<name>.js. */
-const ENTRIES = ["index", "gl", "layers", "psd", "element", "pixi", "three", "worker"];
+const ENTRIES = ["index", "player", "gl", "layers", "psd", "element", "pixi", "three", "worker"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
 const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];
@@ -46,6 +46,7 @@ const ELEMENT_MODULES = ["load", "painters"];
 const WORKER_MODULES = ["protocol", "thread"];
 /** Every module of a folder, as a path under js/ (or dist/) without its extension. */
 const MODULES = [
+  "guard",
   ...GL_MODULES.map((m) => `gl/${m}`),
   ...LAYERS_MODULES.map((m) => `layers/${m}`),
   ...PSD_MODULES.map((m) => `psd/${m}`),
@@ -58,6 +59,7 @@ const INPUTS = [
   ...[...ENTRIES, ...MODULES].map((m) => join(root, "js", `${m}.ts`)),
   join(root, "js", "psd", "ambient.d.ts"),
   join(root, "pkg", "bunraku.d.ts"),
+  join(root, "pkg-player", "bunraku.d.ts"),
   join(root, "js", "tsconfig.json"),
   join(root, "js", "pixi", "tsconfig.json"),
   fileURLToPath(import.meta.url),

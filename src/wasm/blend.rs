@@ -4,7 +4,7 @@
 use js_sys::{Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
-use super::errors::{bad_pose_index, bad_type};
+use super::errors::{bad_type, pose_number};
 use super::mesh::JsMesh;
 use super::options::{blend_options, pose_options};
 use super::positions::positions_out;
@@ -268,13 +268,4 @@ impl JsBlender {
 /// for a value that is not a number.
 fn pose_index(value: &JsValue, pose_count: usize) -> Result<usize, Thrown> {
     pose_number(value.as_f64().ok_or_else(|| bad_type("index", "a number", value))?, pose_count)
-}
-
-/// A number as a pose index: a whole number from 0 below `pose_count`, else `bad-pose`.
-pub(crate) fn pose_number(x: f64, pose_count: usize) -> Result<usize, Thrown> {
-    if x >= 0.0 && x.fract() == 0.0 && x < pose_count as f64 {
-        Ok(x as usize)
-    } else {
-        Err(bad_pose_index(x, pose_count))
-    }
 }

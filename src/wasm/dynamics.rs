@@ -13,37 +13,6 @@ use crate::{Error, Rotation};
 
 #[wasm_bindgen(typescript_custom_section)]
 const TS: &'static str = r#"
-/** One secondary pin's spring (`Dynamics.create`; a document's `dynamics` entry of kind
- *  `"pins"`): pin `pin` swings about where the rigid fit of its `root` pins carries its rest
- *  point. */
-export interface SpringSettings {
-  /** `"pins"`: optional in `Dynamics.create` (the only kind a puppet's springs take), required
-   *  in a document's `dynamics`. */
-  kind?: "pins";
-  /** The pin the spring moves: its index in the puppet's compiled pins. */
-  pin: number;
-  /** The pins that carry it: at least one, not itself, no repeats; a root may be another
-   *  secondary pin (a chain, stepped root to tip). */
-  root: number[];
-  /** The undamped frequency, Hz, 0.01 to 100. Default 1.2. */
-  frequency?: number;
-  /** The damping ratio: 0 rings for ever, 1 is critical (no overshoot); 0 to 100. Default 0.12. */
-  damping?: number;
-  /** How much of its anchor's motion the pin misses each tick, 0 to 1 (the drag look). Default 1. */
-  inertia?: number;
-  /** Gravity, units/s² (y down): acts as its change of direction in the body's frame, so the
-   *  drawn rest pose stays at rest. Default [0, 0]. */
-  gravity?: [number, number];
-  /** A constant force, units/s². Default [0, 0]. */
-  wind?: [number, number];
-  /** The largest offset, rest units. Default: half the distance to the nearest root. */
-  limit?: number;
-  /** A bend or advanced pin's largest angle offset, radians. Default π/2. */
-  angleLimit?: number;
-  /** How much of the swing is shown, 0 to 1; 0 gives the targets bit for bit. Default 1. */
-  mix?: number;
-}
-
 /** `Dynamics.create`'s options. */
 export interface DynamicsOptions {
   /** The fixed tick, whole Hz from 1 to 1000. Default 120. */

@@ -294,6 +294,16 @@ pub(crate) fn bad_option(option: &str, value: &JsValue, reason: &str) -> Thrown 
         .with("value", value.clone())
 }
 
+/// A number as a pose index: a whole number from 0 below `pose_count`, else `bad-pose`
+/// ([`bad_pose_index`]).
+pub(crate) fn pose_number(x: f64, pose_count: usize) -> Result<usize, Thrown> {
+    if x >= 0.0 && x.fract() == 0.0 && x < pose_count as f64 {
+        Ok(x as usize)
+    } else {
+        Err(bad_pose_index(x, pose_count))
+    }
+}
+
 /// A pose index that is not one (negative, fractional, too large), worded as the core's
 /// [`Error::BadPose`]: `pose -1 does not exist (there are 2 poses)`.
 pub(crate) fn bad_pose_index(index: f64, pose_count: usize) -> Thrown {

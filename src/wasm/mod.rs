@@ -17,6 +17,12 @@
 //! | `options` | every options object: its TypeScript interface next to its parser |
 //! | `errors` | every error thrown to JS: a real `Error` with a stable `code` |
 //!
+//! The playback build (cargo's default `authoring` feature off: `bunraku/player`, built by
+//! scripts/build-wasm.sh into pkg-player/) compiles only what plays and keys documents:
+//! `animation`, `document`, `keys`, `rig`, `spring` and what they share. The modules marked
+//! `authoring` below are left out, and wasm-opt then drops the core code only they reach
+//! (meshing, flattening, the renderer and its overlays, the puppet's authoring calls).
+//!
 //! This file holds what they share: typed arrays in and out. Bulk data crosses the
 //! boundary as typed arrays only, checked here: a value of the wrong type is a `bad-type`
 //! error, a length that does not fit a `bad-length` one. Parameters that take JS objects
@@ -29,32 +35,47 @@
 //! state changes.
 
 mod animation;
+#[cfg(feature = "authoring")]
 mod blend;
+#[cfg(feature = "authoring")]
 mod character;
 mod document;
+#[cfg(feature = "authoring")]
 mod dynamics;
 mod errors;
+#[cfg(feature = "authoring")]
 mod flatten;
 mod keys;
+#[cfg(feature = "authoring")]
 mod mesh;
 mod options;
 mod pins;
 mod positions;
+#[cfg(feature = "authoring")]
 mod puppet;
+#[cfg(feature = "authoring")]
 mod render;
 mod rig;
+#[cfg(feature = "authoring")]
 mod settle;
+#[cfg(feature = "authoring")]
 mod simulation;
 mod spring;
 
 pub use animation::{JsPlayer, JsTrack};
+#[cfg(feature = "authoring")]
 pub use blend::JsBlender;
+#[cfg(feature = "authoring")]
 pub use dynamics::JsDynamics;
 pub use errors::Thrown;
+#[cfg(feature = "authoring")]
 pub use flatten::{flatten_surface, surface_from_obj};
 pub use keys::{JsEasing, JsKeyTrack};
+#[cfg(feature = "authoring")]
 pub use mesh::JsMesh;
+#[cfg(feature = "authoring")]
 pub use puppet::Puppet;
+#[cfg(feature = "authoring")]
 pub use render::JsRenderer;
 pub use rig::JsRig;
 pub use spring::JsParameterSpring;

@@ -14,14 +14,34 @@ pub(crate) use render::{render_options, RenderBuffers};
 use js_sys::{Float64Array, Reflect};
 use wasm_bindgen::{JsCast, JsValue};
 
-use super::blend::pose_number;
-use super::errors::{bad_option, bad_type, describe, number, unknown_option, wrong_option_type, Thrown};
+use super::errors::{
+    bad_option, bad_type, describe, number, pose_number, unknown_option, wrong_option_type, Thrown,
+};
 use super::{read_exact, TypedArray};
 use crate::blend::{BlendOptions, Flipped, PoseOptions, Reference};
 use crate::deform::{Method, METHOD_OPTIONS};
 use crate::flatten::{FlattenOptions, VertexPin};
 use crate::meshing::{ImageOptions, OutlineOptions};
 use crate::{EdgeWeights, Error, Options};
+
+// The simulation mesh, an option of `Puppet.register` and `Blender.register` (parsed in
+// src/wasm/simulation.rs).
+#[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
+const SIMULATION_TS: &str = r#"
+/** A simulation mesh under a rendered mesh (`mesh.simulation`, `Puppet.register`'s `simulation`
+ *  option): every method solves on it, and each rendered vertex follows its parent simulation
+ *  triangle's affine map, so a rendered triangle inverts only if its parent does. */
+export interface SimulationMesh {
+  /** The simulation mesh's rest vertices `[x0, y0, …]`, in the rendered mesh's coordinates. */
+  vertices: Float64Array;
+  /** Its triangles `[a0, b0, c0, …]`, counter-clockwise. */
+  triangles: Uint32Array;
+  /** One simulation triangle per rendered vertex. */
+  parent: Uint32Array;
+  /** Three barycentric weights per rendered vertex, in its parent (summing to 1). */
+  weights: Float64Array;
+}
+"#;
 
 #[wasm_bindgen::prelude::wasm_bindgen(typescript_custom_section)]
 const OPTIONS_TS: &str = r#"

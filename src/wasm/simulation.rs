@@ -12,23 +12,6 @@ use crate::meshing::ShapeMesh;
 use crate::simulation::{Embedding, Simulation};
 use crate::Mesh;
 
-#[wasm_bindgen(typescript_custom_section)]
-const SIMULATION_TS: &str = r#"
-/** A simulation mesh under a rendered mesh (`mesh.simulation`, `Puppet.register`'s `simulation`
- *  option): every method solves on it, and each rendered vertex follows its parent simulation
- *  triangle's affine map, so a rendered triangle inverts only if its parent does. */
-export interface SimulationMesh {
-  /** The simulation mesh's rest vertices `[x0, y0, …]`, in the rendered mesh's coordinates. */
-  vertices: Float64Array;
-  /** Its triangles `[a0, b0, c0, …]`, counter-clockwise. */
-  triangles: Uint32Array;
-  /** One simulation triangle per rendered vertex. */
-  parent: Uint32Array;
-  /** Three barycentric weights per rendered vertex, in its parent (summing to 1). */
-  weights: Float64Array;
-}
-"#;
-
 /// `simulation` as the JS object [`SimulationMesh`] describes.
 pub(crate) fn simulation_object(simulation: &Simulation) -> JsValue {
     let object = js_sys::Object::new();
