@@ -73,6 +73,7 @@ export function typeCheck(tsc, blocks, { webgpu = true } = {}) {
           types: [],
           paths: {
             bunraku: [join(root, "pkg/bunraku.d.ts")],
+            "bunraku/player": [join(root, "dist/player.d.ts")],
             "bunraku/gl": [join(root, "dist/gl.d.ts")],
             "bunraku/layers": [join(root, "dist/layers.d.ts")],
             "bunraku/psd": [join(root, "dist/psd.d.ts")],
