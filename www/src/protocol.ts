@@ -421,8 +421,7 @@ export interface PinSwing {
   readonly mix: number;
 }
 
-/** What kicks a parameter spring: another parameter's motion (the demo's swing tool
- *  makes these), or a pin's (a document may hold these; the demo keeps them as they are). */
+/** What kicks a parameter spring: a parameter's motion (the swing tool's) or a pin's. */
 export type SwingInput = { readonly parameter: string } | { readonly pin: number; readonly axis?: "x" | "y" | "angle" };
 
 /** A spring on a parameter, kicked by an input's motion (a document's `dynamics` entry of
