@@ -35,6 +35,7 @@ mod document;
 mod dynamics;
 mod errors;
 mod flatten;
+mod gather;
 mod keys;
 mod mesh;
 mod options;
