@@ -1,7 +1,7 @@
 // The rendered mesh gathered on the GPU (issue 26 §11) in headless Chromium: the gingerbread
 // meshed from its picture and refined 3 × 3 (a rendered mesh nested in a simulation mesh),
 // posed by a drag, drawn by `bunraku/gl`'s `PuppetView` and by `bunraku/three`'s `PuppetMesh`
-// (the real three package) twice: with the CPU's gather (`updateInto`, every rendered
+// (the real three package) and `bunraku/pixi`'s `PuppetSprite` (the real pixi.js, WebGL) twice: with the CPU's gather (`updateInto`, every rendered
 // position uploaded) and with the GPU's (`gather`: `updateSimulationInto`, only the
 // simulation positions uploaded). The two pictures agree (mean ≤ 1/255, max ≤ 8/255 per
 // channel, away from the shape's edges: pixels within 2 px of a partly covered one are left
@@ -25,23 +25,30 @@ const SIZE = 768;
 
 const blankPage = blankPages({
   origin: "http://bunraku-gather.test",
-  modules: ["gl", "index", "three"],
+  modules: ["gl", "index", "three", "pixi"],
   pkg: true,
   scripts: {
     "/three/three.module.js": three("three.module.js"),
     "/three/three.core.js": three("three.core.js"),
+    "/pixi.mjs": readFileSync(`${ROOT}node_modules/pixi.js/dist/pixi.min.mjs`, "utf8"),
   },
   ready: () => window.ready === true,
   viewport: { width: SIZE, height: SIZE },
 });
 
 const HTML = `<!doctype html><body style="margin:0">
-<script type="importmap">{ "imports": { "three": "/three/three.module.js" } }</script>
+<script type="importmap">{ "imports": { "three": "/three/three.module.js", "pixi.js": "/pixi.mjs" } }</script>
 ${PKG_AND_GL_SCRIPT}
 <script type="module">
   while (!window.gl) await new Promise((r) => setTimeout(r, 10));
   window.THREE = await import("three");
   window.adapter = await import("/three.js");
+  // The package's entry (bunraku/pixi imports its classes): initialised, and the classes used.
+  const entry = await import("/index.js");
+  await entry.default({ module_or_path: "/pkg/bunraku_bg.wasm" });
+  window.bunraku = entry;
+  window.PIXI = await import("pixi.js");
+  window.pixiAdapter = await import("/pixi.js");
   window.ready = true;
 </script></body>`;
 
@@ -275,5 +282,80 @@ test("bunraku/three: a PuppetMesh with gather draws the CPU-gathered picture of 
       onlySimulation(f.gpu);
     }
     assert.match(r.refused, /gather needs a simulation mesh/);
+  });
+});
+
+test("bunraku/pixi: a PuppetSprite with gather draws the CPU-gathered picture of a puppet and of a document, uploading only the simulation positions", { timeout: TIMEOUT }, async () => {
+  await inPage(async (page) => {
+    const r = await page.evaluate(async (SIZE) => {
+      const { b, img, fine, pins, pose } = await scene();
+      const app = new PIXI.Application();
+      await app.init({ width: SIZE, height: SIZE, backgroundAlpha: 0, preference: "webgl", preserveDrawingBuffer: true, antialias: false, autoStart: false, resolution: 1 });
+      document.body.append(app.canvas);
+      const texture = PIXI.Texture.from(img);
+      // The uploads since the last shot: Pixi uploads a texture when its source updates.
+      const shot = (sprite) => {
+        app.stage.removeChildren();
+        app.stage.addChild(sprite);
+        app.render();
+        return { pixels: pixelsOf(app.canvas), uploads: take() };
+      };
+      const cpu = b.Puppet.fromMesh(fine, { method: "two-step" });
+      const gpu = b.Puppet.fromMesh(fine, { method: "two-step" });
+      cpu.compile(pins);
+      gpu.compile(pins);
+      const plain = new pixiAdapter.PuppetSprite(cpu, { texture, uvs: fine.uvs });
+      const gathered = new pixiAdapter.PuppetSprite(gpu, { texture, uvs: fine.uvs, gather: true });
+      shot(plain);
+      shot(gathered);
+      const frames = [];
+      for (const k of [1, 2, 3]) {
+        take();
+        plain.update(pose(k));
+        const want = shot(plain);
+        gathered.update(pose(k));
+        const got = shot(gathered);
+        frames.push({ d: compare(got.pixels, want.pixels, SIZE), cpu: want.uploads, gpu: got.uploads });
+      }
+      const s = gpu.simulation;
+      const doc = {
+        format: "bunraku-puppet",
+        version: 2,
+        mesh: { vertices: Array.from(fine.vertices), triangles: Array.from(fine.triangles), uvs: Array.from(fine.uvs) },
+        simulation: { vertices: Array.from(s.vertices), triangles: Array.from(s.triangles), parent: Array.from(s.parent), weights: Array.from(s.weights) },
+        puppet: { method: "two-step" },
+        pins: { points: Array.from(pins) },
+        track: { pins: pins.length / 2, times: [0, 1, 2, 3], targets: [0, 1, 2, 3].flatMap((k) => Array.from(pose(k))) },
+      };
+      const playing = new pixiAdapter.PuppetSprite(b.Player.load(doc), { texture });
+      const gatheredPlaying = new pixiAdapter.PuppetSprite(b.Player.load(doc), { texture, gather: true });
+      shot(playing);
+      shot(gatheredPlaying);
+      const played = [];
+      for (const t of [0.5, 2.25]) {
+        take();
+        playing.seek(t);
+        const want = shot(playing);
+        gatheredPlaying.seek(t);
+        const got = shot(gatheredPlaying);
+        played.push({ d: compare(got.pixels, want.pixels, SIZE), gpu: got.uploads });
+      }
+      return { frames, played, n: cpu.vertexCount, m: gpu.simulationVertexCount };
+    }, SIZE);
+    console.log(JSON.stringify({ n: r.n, m: r.m, frames: r.frames.map((f) => ({ ...f.d, cpu: f.cpu, gpu: f.gpu })), played: r.played }));
+    const onlySimulation = (uploads) => {
+      assert.ok(uploads.length >= 1 && uploads.every((u) => u.name === "texSubImage2D"), JSON.stringify(uploads));
+      const texels = uploads.reduce((sum, u) => sum + u.texels, 0);
+      assert.ok(texels >= r.m && texels < r.m + 1024, `${texels} texels for ${r.m} simulation vertices`);
+    };
+    for (const [k, f] of r.frames.entries()) {
+      agrees(`puppet frame ${k + 1}`, f.d);
+      assert.ok(f.cpu.some((u) => u.name.startsWith("buffer") && u.bytes === 8 * r.n), "the CPU gather uploads every rendered position");
+      onlySimulation(f.gpu);
+    }
+    for (const [k, f] of r.played.entries()) {
+      agrees(`document frame ${k + 1}`, f.d);
+      onlySimulation(f.gpu);
+    }
   });
 });
