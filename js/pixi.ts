@@ -172,7 +172,10 @@ export class PuppetSprite extends Mesh {
       this.gathered = gathered.source;
       this.simulation = gathered.simulation;
       this.hitArea = new Rectangle();
-      if (puppet) this.simulation.set(puppet.simulationPositions);
+      if (puppet) {
+        this.simulation.set(puppet.simulationPositions);
+        this.uploaded();
+      }
     }
     this.state.culling = false; // bunraku's triangles are clockwise on a y-down screen
     this.positions = positions;
@@ -229,7 +232,11 @@ export class PuppetSprite extends Mesh {
       minY = Math.min(minY, sim[j + 1]);
       maxY = Math.max(maxY, sim[j + 1]);
     }
-    (this.hitArea as Rectangle).copyFrom({ x: minX, y: minY, width: maxX - minX, height: maxY - minY } as Rectangle);
+    const area = this.hitArea as Rectangle;
+    area.x = minX;
+    area.y = minY;
+    area.width = maxX - minX;
+    area.height = maxY - minY;
   }
 
   /** A player's time in seconds (setting it seeks). */

@@ -122,6 +122,13 @@ const HELPERS = () => {
     }
     return { mean: sum / n, max, inside };
   };
+  /** A Pixi application (WebGL, transparent, not ticking) on a `size`² canvas on the page. */
+  window.pixiApp = async (size) => {
+    const app = new PIXI.Application();
+    await app.init({ width: size, height: size, backgroundAlpha: 0, preference: "webgl", preserveDrawingBuffer: true, antialias: false, autoStart: false, resolution: 1 });
+    document.body.append(app.canvas);
+    return app;
+  };
   /** A fresh canvas of `size`² CSS pixels on the page. */
   window.canvasOf = (size) => {
     const canvas = document.createElement("canvas");
@@ -289,9 +296,7 @@ test("bunraku/pixi: a PuppetSprite with gather draws the CPU-gathered picture of
   await inPage(async (page) => {
     const r = await page.evaluate(async (SIZE) => {
       const { b, img, fine, pins, pose } = await scene();
-      const app = new PIXI.Application();
-      await app.init({ width: SIZE, height: SIZE, backgroundAlpha: 0, preference: "webgl", preserveDrawingBuffer: true, antialias: false, autoStart: false, resolution: 1 });
-      document.body.append(app.canvas);
+      const app = await pixiApp(SIZE);
       const texture = PIXI.Texture.from(img);
       // The uploads since the last shot: Pixi uploads a texture when its source updates.
       const shot = (sprite) => {
@@ -357,5 +362,42 @@ test("bunraku/pixi: a PuppetSprite with gather draws the CPU-gathered picture of
       agrees(`document frame ${k + 1}`, f.d);
       onlySimulation(f.gpu);
     }
+  });
+});
+
+test("bunraku/pixi: pointer pins on a gathered sprite: a press pins the shape, a drag moves the pin", { timeout: TIMEOUT }, async () => {
+  await inPage(async (page) => {
+    await page.evaluate(async (SIZE) => {
+      const { b, img, fine } = await scene();
+      const app = await pixiApp(SIZE);
+      const puppet = b.Puppet.fromMesh(fine, { method: "two-step" });
+      const sprite = new pixiAdapter.PuppetSprite(puppet, { texture: PIXI.Texture.from(img), uvs: fine.uvs, pins: true, gather: true });
+      app.stage.addChild(sprite);
+      app.render();
+      Object.assign(window, { puppet, sprite });
+    }, SIZE);
+    const state = () => page.evaluate(() => ({ count: puppet.handleCount, pins: [...puppet.pinPositions], targets: [...sprite.pinTargets] }));
+    const [belly, head] = [{ x: 384, y: 510 }, { x: 384, y: 156 }];
+    await page.mouse.click(belly.x, belly.y);
+    await page.mouse.click(head.x, head.y);
+    const placed = await state();
+    await page.mouse.click(5, 5); // off the shape
+    const off = await state();
+    await page.mouse.move(head.x + 3, head.y + 2);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; k++) await page.mouse.move(head.x + 3 + 12 * k, head.y + 2 + 4 * k);
+    await page.mouse.up();
+    const dragged = await state();
+    // The press after the drag finds the head where it was dragged (the gathered positions).
+    await page.mouse.click(head.x + 120, head.y + 40);
+    const grabbed = await state();
+    console.log(JSON.stringify({ placed, dragged, grabbed }));
+    assert.equal(placed.count, 2);
+    assert.deepEqual(placed.targets, [384, 510, 384, 156]);
+    assert.equal(off.count, 2);
+    assert.equal(dragged.count, 2, "the press near the head grabbed its pin");
+    assert.deepEqual(dragged.targets, [384, 510, 384 + 120, 156 + 40]);
+    assert.ok(Math.hypot(dragged.pins[2] - 504, dragged.pins[3] - 196) < 2, `the head followed: ${dragged.pins}`);
+    assert.equal(grabbed.count, 2, "a press on the dragged pin grabs it");
   });
 });
