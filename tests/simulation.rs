@@ -145,7 +145,9 @@ fn a_version_1_document_cannot_hold_a_simulation_mesh_and_bad_ones_are_named() {
 fn gathered(s: &bunraku::simulation::Simulation, sim: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let corner = |v: usize, k: usize| sim[s.mesh().triangles()[s.parent()[v] as usize][k] as usize];
     let w = s.weights();
-    let at = |v: usize, i: usize| w[v][0] * corner(v, 0)[i] + w[v][1] * corner(v, 1)[i] + w[v][2] * corner(v, 2)[i];
+    let at = |v: usize, i: usize| {
+        w[v][0] * corner(v, 0)[i] + w[v][1] * corner(v, 1)[i] + w[v][2] * corner(v, 2)[i]
+    };
     (0..s.parent().len()).map(|v| [at(v, 0), at(v, 1)]).collect()
 }
 
