@@ -7,7 +7,8 @@
 // channel, away from the shape's edges: pixels within 2 px of a partly covered one are left
 // out); a document with a simulation mesh plays the same way (`player.simulationPositionsInto`);
 // every upload of a frame is counted (WebGL2's upload calls wrapped): with the gather, one
-// or two texSubImage2D of the simulation positions' texels and no buffer upload; no console
+// or two texSubImage2D of the simulation positions' texels and no buffer upload; pointer pins
+// on a gathered three mesh and Pixi sprite press on the posed (gathered) shape; no console
 // errors. Counts, never times.
 //
 //   node scripts/build-gl.mjs && node --test tests/browser/gather.test.mjs
@@ -399,5 +400,45 @@ test("bunraku/pixi: pointer pins on a gathered sprite: a press pins the shape, a
     assert.deepEqual(dragged.targets, [384, 510, 384 + 120, 156 + 40]);
     assert.ok(Math.hypot(dragged.pins[2] - 504, dragged.pins[3] - 196) < 2, `the head followed: ${dragged.pins}`);
     assert.equal(grabbed.count, 2, "a press on the dragged pin grabs it");
+  });
+});
+
+test("bunraku/three: pointer pins on a gathered mesh: a press adds a pin, a drag moves it, a press where it was dragged grabs it", { timeout: TIMEOUT }, async () => {
+  await inPage(async (page) => {
+    await page.evaluate(async (SIZE) => {
+      const { b, data, fine, pins } = await scene();
+      const puppet = b.Puppet.fromMesh(fine, { method: "two-step" });
+      puppet.compile(pins.slice(8, 12)); // the feet, held where they are
+      const renderer = new THREE.WebGLRenderer({ canvas: canvasOf(SIZE), antialias: false });
+      renderer.setPixelRatio(1);
+      renderer.setSize(SIZE, SIZE, false);
+      const camera = new THREE.OrthographicCamera(0, SIZE, 0, SIZE, 0.1, 100);
+      camera.position.set(0, 0, 10);
+      const scene3 = new THREE.Scene();
+      const mesh = new adapter.PuppetMesh({ puppet, uvs: fine.uvs, picture: { data: data.data, width: data.width, height: data.height } }, { pins: true, gather: true });
+      scene3.add(mesh);
+      window.mesh = mesh;
+      window.draw = () => renderer.render(scene3, camera);
+      draw();
+    }, SIZE);
+    const drag = async (x, y, dx, dy) => {
+      await page.mouse.move(x, y);
+      await page.mouse.down();
+      for (let k = 1; k <= 10; k++) await page.mouse.move(x + (dx * k) / 10, y + (dy * k) / 10);
+      await page.mouse.up();
+      return page.evaluate(() => {
+        draw();
+        return { handles: mesh.puppet.handleCount, targets: Array.from(mesh.targets), pins: Array.from(mesh.puppet.pinPositions) };
+      });
+    };
+    // The right hand at rest, (597, 345) in picture pixels = viewport pixels.
+    const first = await drag(597, 345, 60, -80);
+    // Far from where the rest shape has it: found only on the gathered (posed) positions.
+    const second = await drag(657, 265, 40, -40);
+    console.log(JSON.stringify({ first, second }));
+    assert.equal(first.handles, 3, "a pin was added to the two");
+    assert.ok(Math.hypot(first.pins[4] - 657, first.pins[5] - 265) < 2, `the material followed the pin (${first.pins.slice(4)})`);
+    assert.equal(second.handles, 3, "the press where the hand was dragged grabbed its pin");
+    assert.ok(Math.hypot(second.targets[4] - 697, second.targets[5] - 225) < 1.5, `dragged on to (697, 225): ${second.targets.slice(4)}`);
   });
 });
