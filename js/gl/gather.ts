@@ -34,8 +34,9 @@ export const GATHER_TEXTURE_WIDTH = 1024;
 export interface GatherMesh {
   /** The number of simulation vertices: `draw` takes `2 * count` numbers. */
   readonly count: number;
-  /** The texture's size in texels. */
+  /** The texture's width in texels (at most `GATHER_TEXTURE_WIDTH`). */
   readonly width: number;
+  /** The texture's height in texels (rows of `width`). */
   readonly height: number;
   /** Three simulation vertex indices per rendered vertex. */
   readonly corners: Float32Array;
@@ -98,8 +99,9 @@ void main() {
   gl_Position = vec4((u_toClip * vec3(p, 1.0)).xy, 0.0, 1.0);
 }`;
 
-/** The gather attributes' locations (beside `UV`). */
+/** The location of the attribute of the parent's three simulation vertex indices. */
 export const CORNERS = 2;
+/** The location of the attribute of the three weights. */
 export const WEIGHTS = 3;
 
 /** A gathering painter's GPU resources: its program, the simulation positions' texture (on
