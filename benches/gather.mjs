@@ -1,7 +1,7 @@
 // The rendered mesh gathered on the GPU (issue 26 §11) in headless Chromium (software GL:
 // SwiftShader). A 4096² picture (the test character) meshed at about 2,000 vertices: the
 // simulation mesh. Rendered meshes on it, each dragged by one pin (the right hand) for
-// --frames animation frames and drawn by `bunraku/gl`'s `PuppetView`, four ways in the same
+// --frames animation frames and drawn by `bunraku/gl`'s `PuppetView`, five ways in the same
 // run, blocks of 20 frames alternated:
 // - a generated mesh of about --vertices (1M) rendered vertices, every simulation triangle
 //   split g × g, its parents and weights known by construction (the library's meshes stop at
@@ -10,7 +10,8 @@
 //   of the simulation positions), and CPU gather (the same solve, the gather in JavaScript,
 //   a bufferSubData of 8 MB);
 // - the library's largest mesh on it (`mesh.refine(k)` within the limit): GPU gather, and
-//   the CPU gather of `updateInto` (wasm) with its bufferSubData.
+//   the CPU gather of `updateInto` (wasm) with its bufferSubData;
+// - the simulation mesh drawn as it is (a 2k-vertex picture): `updateInto`, bufferSubData.
 // Page work per frame is the JS time in the frame callback (solve + gather + upload + draw
 // calls, performance.now()); the frame rate is from the requestAnimationFrame timestamps:
 // what software GL reaches drawing the triangles. Also printed: how long meshing,
@@ -82,6 +83,7 @@ async function run({ vertices, frames, method, side }) {
   const [bigCpuView, bigCpuSetup] = timed(() => new window.gl.PuppetView(canvas(), bitmap, big.triangles, big.uvs, { fit }));
   const [gpuView, gpuSetup] = timed(() => new window.gl.PuppetView(canvas(), bitmap, fine.triangles, fine.uvs, { fit, gather: simulation }));
   const [cpuView, cpuSetup] = timed(() => new window.gl.PuppetView(canvas(), bitmap, fine.triangles, fine.uvs, { fit }));
+  const smallView = new window.gl.PuppetView(canvas(), bitmap, coarse.triangles, coarse.uvs, { fit });
   const sim = new Float32Array(2 * puppet.simulationVertexCount);
   const rendered = new Float32Array(2 * puppet.vertexCount);
   const bigRendered = new Float32Array(big.uvs.length);
@@ -103,6 +105,10 @@ async function run({ vertices, frames, method, side }) {
     cpu: () => {
       puppet.updateInto(targets, rendered);
       cpuView.draw(rendered);
+    },
+    small: () => {
+      bigPuppet.updateInto(targets, sim);
+      smallView.draw(sim);
     },
   };
   const names = Object.keys(ways);
@@ -143,7 +149,7 @@ async function run({ vertices, frames, method, side }) {
     renderer: info ? c.getParameter(info.UNMASKED_RENDERER_WEBGL) : c.getParameter(c.RENDERER),
     buffer: [gpuView.canvas.width, gpuView.canvas.height],
   };
-  for (const v of [gpuView, cpuView, bigGpuView, bigCpuView]) v.dispose();
+  for (const v of [gpuView, cpuView, bigGpuView, bigCpuView, smallView]) v.dispose();
   for (const o of [puppet, bigPuppet, fine, coarse]) o.free();
   return result;
 
@@ -247,6 +253,7 @@ try {
     "cpu-big": [`${M(r.big.vertices)} (generated)`, "CPU: updateSimulationInto, gather in JS, bufferSubData"],
     gpu: [`${r.rendered}`, "GPU: updateSimulationInto, texSubImage2D"],
     cpu: [`${r.rendered}`, "CPU: updateInto (wasm gather), bufferSubData"],
+    small: [`${r.coarse} (the simulation mesh itself)`, "none: updateInto, bufferSubData"],
   };
   for (const way of Object.keys(label)) {
     const w = r.work[way], f = r.intervals[way];
