@@ -22,6 +22,10 @@
 // multiply, screen, additive: js/gl/blend.ts gives the formulas). A new draw order changes
 // only the list of draw calls.
 //
+// With a simulation mesh, the view can gather the rendered mesh on the GPU (`gather`): the
+// vertex shader computes each rendered vertex from its parent simulation triangle, and a
+// frame uploads only the simulation positions (js/gl/gather.ts).
+//
 // This file is the module's entry: what `bunraku/gl` exports, each from the module of js/gl/
 // that holds it.
 
@@ -37,6 +41,8 @@ export { CharacterView } from "./gl/character.js";
 export type { CharacterPainterOptions } from "./gl/characterpainter.js";
 export { CharacterPainter } from "./gl/characterpainter.js";
 export { depthOrder, hasDepth } from "./gl/depth.js";
+export type { GatherMesh, GatherSource } from "./gl/gather.js";
+export { GATHER_GLSL, GATHER_TEXTURE_WIDTH, gatherMesh } from "./gl/gather.js";
 export type { PuppetViewErrorCode } from "./gl/error.js";
 export { PuppetViewError } from "./gl/error.js";
 export type { MeshPainterOptions } from "./gl/painter.js";

@@ -3,11 +3,13 @@
 // buffer holds the very `Float32Array` the solver writes into (`puppet.updateInto`,
 // `player.positionsInto`): each frame the wasm writes the positions there and the buffer
 // is only marked for upload, with no copy of ours. pixi.js (≥ 8) is a peer dependency,
-// imported as a bare specifier and never bundled.
+// imported as a bare specifier and never bundled. With `gather`, the rendered mesh is
+// gathered on the GPU from its simulation mesh (a custom GL program; js/gl/gather.ts).
 
-import { Mesh, MeshGeometry, Texture, Ticker, type FederatedPointerEvent, type Buffer } from "pixi.js";
-import { Character, Player, Puppet } from "./index.js";
+import { BufferImageSource, compileHighShaderGl, fragmentGlTemplate, GlProgram, globalUniformsBitGl, localUniformBitGl, Mesh, MeshGeometry, Rectangle, roundPixelsBitGl, Shader, Texture, textureBitGl, Ticker, vertexGlTemplate, type FederatedPointerEvent, type Buffer } from "pixi.js";
+import { Character, Player, Puppet, type SimulationMesh } from "./index.js";
 import { depthOrder } from "./gl/depth.js";
+import { GATHER_GLSL, gatherMesh } from "./gl/gather.js";
 
 /** What a `PuppetSprite` draws: a compiled or uncompiled `Puppet`, a `Player` (a loaded
  *  document) or a layered `Character` (its own puppet is made unless `options.puppet`). */
@@ -48,6 +50,14 @@ export interface PuppetSpriteOptions {
   /** The ticker for `autoplay` and for pins (which keep solving on it while the injective
    *  method has not converged). Default `Ticker.shared`. */
   ticker?: Ticker;
+  /** Gather the rendered mesh on the GPU from the puppet's or document's simulation mesh
+   *  (`puppet.simulation`, `player.simulation`; throws without one): each frame solves and
+   *  uploads only the simulation positions (`simulation`, a small float texture) and the
+   *  vertex shader computes the rendered ones. WebGL renderers only. `positions` then holds
+   *  the rest shape (refreshed from `puppet.positions` when a pointer presses), the hit area
+   *  is the simulation mesh's bounding box, and the geometry's bounds stay the rest shape's.
+   *  Default false. */
+  gather?: boolean;
 }
 
 /** A part of a character document (`PuppetDocument.parts`), as far as the sprite reads it. */
@@ -97,6 +107,10 @@ export class PuppetSprite extends Mesh {
   playing: boolean;
   /** The pins' targets `[x0, y0, …]` when `pins` is on (where the pointer put them). */
   pinTargets: Float64Array = new Float64Array(0);
+  /** With `gather`, the simulation positions `[x0, y0, …]` (the start of the float
+   *  texture's array, written by the solver or the player on every update), else null. */
+  readonly simulation: Float32Array | null = null;
+  private readonly gathered: BufferImageSource | null = null;
 
   private readonly triangles: Uint32Array; // drawing order before depth sorting
   private readonly indices: Uint32Array; // the index buffer's own array
@@ -169,7 +183,17 @@ export class PuppetSprite extends Mesh {
     const geometry = new MeshGeometry({ positions, uvs: new Float32Array(uvs), indices });
     // Drawn from its own buffers (a batched mesh is copied into the batcher's).
     geometry.batchMode = "no-batch";
-    super({ geometry, texture });
+    const gathered = options.gather ? gatherSource((player ?? puppet!).simulation, geometry, texture) : null;
+    super(gathered ? { geometry, texture, shader: gathered.shader } : { geometry, texture });
+    if (gathered) {
+      this.gathered = gathered.source;
+      this.simulation = gathered.simulation;
+      this.hitArea = new Rectangle();
+      if (puppet) {
+        this.simulation.set(puppet.simulationPositions);
+        this.uploaded();
+      }
+    }
     this.state.culling = false; // bunraku's triangles are clockwise on a y-down screen
     this.positions = positions;
     this.positionBuffer = geometry.getBuffer("aPosition");
@@ -207,9 +231,29 @@ export class PuppetSprite extends Mesh {
   update(targets: Float64Array, rotations?: Float64Array): void {
     const puppet = this.puppet;
     if (!puppet) throw new TypeError("PuppetSprite.update: this sprite plays a document (use seek)");
-    if (rotations) puppet.updateInto(targets, this.positions, rotations);
+    if (this.simulation) puppet.updateSimulationInto(targets, this.simulation, rotations);
+    else if (rotations) puppet.updateInto(targets, this.positions, rotations);
     else puppet.updateInto(targets, this.positions);
-    this.positionBuffer.update();
+    this.uploaded();
+  }
+
+  /** The positions (or with `gather`, the simulation positions) are marked for upload. */
+  private uploaded(): void {
+    const sim = this.simulation;
+    if (!sim) return this.positionBuffer.update();
+    this.gathered!.update();
+    let minX = Infinity, minY = Infinity, maxX = -Infinity, maxY = -Infinity;
+    for (let j = 0; j < sim.length; j += 2) {
+      minX = Math.min(minX, sim[j]);
+      maxX = Math.max(maxX, sim[j]);
+      minY = Math.min(minY, sim[j + 1]);
+      maxY = Math.max(maxY, sim[j + 1]);
+    }
+    const area = this.hitArea as Rectangle;
+    area.x = minX;
+    area.y = minY;
+    area.width = maxX - minX;
+    area.height = maxY - minY;
   }
 
   /** Shows positions computed elsewhere (a `PuppetWorker`'s `frame.positions`, xy): the array
@@ -238,8 +282,9 @@ export class PuppetSprite extends Mesh {
     const player = this.player;
     if (!player) throw new TypeError("PuppetSprite.seek: this sprite poses a puppet (use update)");
     this.t = t;
-    player.positionsInto(t, this.positions);
-    this.positionBuffer.update();
+    if (this.simulation) player.simulationPositionsInto(t, this.simulation);
+    else player.positionsInto(t, this.positions);
+    this.uploaded();
     if (this.depthScratch && player.triangleDepthInto(t, this.depthScratch)) this.setDepth(this.depthScratch);
     if (this.parts) {
       const order = player.drawOrderAt(t);
@@ -313,6 +358,7 @@ export class PuppetSprite extends Mesh {
 
   private press(e: FederatedPointerEvent): void {
     const puppet = this.puppet!;
+    if (this.simulation) this.positions.set(puppet.positions); // for `restPoint` (not uploaded)
     const { x, y } = this.toLocal(e.global);
     const targets = this.pinTargets;
     let best = -1;
@@ -391,6 +437,42 @@ export class PuppetSprite extends Mesh {
     if (this.ownsPuppet) this.puppet?.free();
     super.destroy(options);
   }
+}
+
+/** The GL program that gathers each vertex from the simulation positions' texture. */
+const GATHER_BIT = {
+  name: "bunraku-gather",
+  vertex: {
+    header: `uniform highp sampler2D uSimulation;\nin vec3 aCorners;\nin vec3 aWeights;\n${GATHER_GLSL}`,
+    start: "position = bunrakuGather(uSimulation, aCorners, aWeights);",
+  },
+};
+
+/** `simulation`'s gather for a sprite of `geometry` drawn with `texture`: the attributes
+ *  added to the geometry, the float texture's source (its array's start is `simulation`)
+ *  and the shader. Throws without a simulation mesh. */
+function gatherSource(simulation: SimulationMesh | null, geometry: MeshGeometry, texture: Texture) {
+  if (!simulation) throw new TypeError("PuppetSprite: gather needs a simulation mesh (puppet.simulation or player.simulation is null)");
+  const g = gatherMesh(simulation, geometry.positions.length / 2);
+  geometry.addAttribute("aCorners", { buffer: g.corners, format: "float32x3" });
+  geometry.addAttribute("aWeights", { buffer: g.weights, format: "float32x3" });
+  const data = new Float32Array(2 * g.width * g.height);
+  const source = new BufferImageSource({ resource: data, width: g.width, height: g.height, format: "rg32float", scaleMode: "nearest", autoGenerateMipmaps: false });
+  // Pixi's mesh program with the gather, as GLSL ES 3.00 (texelFetch): Pixi compiles a
+  // program as 3.00 when its source says so.
+  const bits = [globalUniformsBitGl, localUniformBitGl, textureBitGl, roundPixelsBitGl, GATHER_BIT];
+  const { vertex, fragment } = compileHighShaderGl({ template: { vertex: vertexGlTemplate, fragment: fragmentGlTemplate }, bits });
+  const glProgram = new GlProgram({ name: "bunraku-gather", vertex: `#version 300 es\n${vertex}`, fragment: `#version 300 es\n${fragment}` });
+  const shader: Shader & { texture: Texture } = Object.assign(new Shader({
+    glProgram,
+    resources: {
+      uTexture: texture.source,
+      uSampler: texture.source.style,
+      textureUniforms: { uTextureMatrix: { type: "mat3x3<f32>", value: texture.textureMatrix.mapCoord } },
+      uSimulation: source,
+    },
+  }), { texture });
+  return { shader, source, simulation: data.subarray(0, 2 * g.count) };
 }
 
 /** The visible parts' triangles of a character document, part by part in `order`. */

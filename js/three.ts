@@ -16,11 +16,15 @@
 //   the solver (`puppet.updateInto`, `player.positionsInto`) writes into;
 // - overlap depth (`triangleDepth`, keyed depths) by the order of the index buffer, and a
 //   character's parts in their draw order (one group and material per part, with its
-//   opacity and blend mode).
+//   opacity and blend mode);
+// - with `gather`, the rendered mesh gathered on the GPU from a simulation mesh: the material's
+//   vertex shader computes each vertex from its parent simulation triangle, and a frame
+//   uploads only the simulation positions (a small RG32F `DataTexture`; js/gl/gather.ts).
 
 import * as THREE from "three";
 import type { Character, Player, Puppet } from "./index.js";
 import { depthOrder, hasDepth } from "./gl/depth.js";
+import { GATHER_GLSL, gatherMesh } from "./gl/gather.js";
 
 /** A picture: a three.js texture, anything WebGL uploads (an image, a canvas, an
  *  `ImageBitmap`, `ImageData`) or straight RGBA pixels `{ data, width, height }`, rows from
@@ -74,6 +78,13 @@ export interface PuppetMeshOptions {
    *  (a character's atlas is padded for 3 mipmap levels). Default false: bilinear, as the
    *  `Renderer` and bunraku/gl draw it. Not applied to a `THREE.Texture` you pass. */
   readonly mipmaps?: boolean;
+  /** Gather the rendered mesh on the GPU from the puppet's or document's simulation mesh
+   *  (`puppet.simulation`, `player.simulation`; throws without one): each frame solves and
+   *  uploads only the simulation positions (`simulation`), and the vertex shader computes
+   *  the rendered ones, so a picture meshed at full detail costs a frame what its
+   *  simulation mesh does. `positions` then holds the rest shape (refreshed from
+   *  `puppet.positions` when a pointer presses). Default false. */
+  readonly gather?: boolean;
 }
 
 /** A pin move by the pointer (the `"pin"` event's payload). */
@@ -117,6 +128,23 @@ function makeMaterial(texture: THREE.Texture, decode: boolean, opacity = 1, blen
   // A texture made here is stored as RGBA8 (see `toTexture`) and decoded from sRGB after
   // filtering, by three's own inline decode (map_fragment's DECODE_VIDEO_TEXTURE).
   if (decode) material.defines = { DECODE_VIDEO_TEXTURE: "" };
+  return material;
+}
+
+/** `material` with its vertices gathered from `simulation` (the simulation positions'
+ *  texture) by the geometry's `bunrakuCorners` and `bunrakuWeights` attributes. */
+function gathering(material: THREE.MeshBasicMaterial, simulation: THREE.DataTexture): THREE.MeshBasicMaterial {
+  material.onBeforeCompile = (shader) => {
+    shader.uniforms.bunrakuSimulation = { value: simulation };
+    shader.vertexShader = shader.vertexShader
+      .replace("#include <common>", `#include <common>
+uniform highp sampler2D bunrakuSimulation;
+attribute vec3 bunrakuCorners;
+attribute vec3 bunrakuWeights;
+${GATHER_GLSL}`)
+      .replace("#include <begin_vertex>", "vec3 transformed = vec3(bunrakuGather(bunrakuSimulation, bunrakuCorners, bunrakuWeights), 0.0);");
+  };
+  material.customProgramCacheKey = () => "bunraku-gather";
   return material;
 }
 
@@ -175,6 +203,9 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
   readonly player: Player | null;
   /** The texture drawn (set up: `flipY = false`, sRGB). */
   readonly texture: THREE.Texture;
+  /** With `gather`, the simulation positions `[x0, y0, …]` (the start of the texture's
+   *  array, written by the solver or the player on every update), else null. */
+  readonly simulation: Float32Array | null = null;
   /** The pins' targets (picture pixels) that `update` last got or the pointer set. */
   targets: Float64Array = new Float64Array(0);
 
@@ -187,6 +218,7 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
   private readonly ownsTexture: boolean;
   private readonly pinOptions: { enabled: boolean; radius: number };
   private rotations: Float64Array | undefined;
+  private readonly gathered: THREE.DataTexture | null = null;
 
   constructor(source: PuppetMeshSource, options: PuppetMeshOptions = {}) {
     let puppet: Puppet | null = null;
@@ -262,7 +294,22 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     const ownsTexture = !(picture instanceof THREE.Texture);
     const texture = toTexture(picture, options.mipmaps === true);
     const material = parts ? parts.map((p) => makeMaterial(texture, ownsTexture, p.opacity ?? 1, p.blendMode ?? "normal")) : makeMaterial(texture, ownsTexture);
+    let gathered: THREE.DataTexture | null = null;
+    if (options.gather === true) {
+      const simulation = (puppet ?? player!).simulation;
+      if (!simulation) throw new Error("PuppetMesh: gather needs a simulation mesh (puppet.simulation or player.simulation is null)");
+      const g = gatherMesh(simulation, count);
+      gathered = new THREE.DataTexture(new Float32Array(2 * g.width * g.height), g.width, g.height, THREE.RGFormat, THREE.FloatType);
+      gathered.userData.count = g.count;
+      geometry.setAttribute("bunrakuCorners", new THREE.BufferAttribute(g.corners, 3));
+      geometry.setAttribute("bunrakuWeights", new THREE.BufferAttribute(g.weights, 3));
+      for (const m of Array.isArray(material) ? material : [material]) gathering(m, gathered);
+    }
     super(geometry, material);
+    if (gathered) {
+      this.gathered = gathered;
+      this.simulation = (gathered.image.data as Float32Array).subarray(0, 2 * (gathered.userData.count as number));
+    }
     this.name = "PuppetMesh";
     this.positions = positions;
     this.attribute = attribute;
@@ -279,6 +326,7 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     if (depth) this.setDepth(depth);
     if (puppet) {
       this.targets = puppet.handles.slice();
+      this.simulation?.set(puppet.simulationPositions);
       this.writePositions(puppet.positions);
     } else if (player) {
       this.seek(0);
@@ -306,7 +354,9 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
   update(targets: Float64Array, rotations?: Float64Array): void {
     const puppet = this.puppet;
     if (!puppet) throw new Error("PuppetMesh.update: this mesh plays a document (seek(t))");
-    if (rotations) puppet.updateInto(targets, this.positions, rotations);
+    const sim = this.simulation;
+    if (sim) puppet.updateSimulationInto(targets, sim, rotations);
+    else if (rotations) puppet.updateInto(targets, this.positions, rotations);
     else puppet.updateInto(targets, this.positions);
     if (targets !== this.targets) this.targets = targets.slice();
     this.rotations = rotations;
@@ -318,7 +368,8 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
   seek(t: number): void {
     const player = this.player;
     if (!player) throw new Error("PuppetMesh.seek: this mesh poses a puppet (update(targets))");
-    player.positionsInto(t, this.positions);
+    if (this.simulation) player.simulationPositionsInto(t, this.simulation);
+    else player.positionsInto(t, this.positions);
     if (this.parts) {
       const order = player.drawOrderAt(t);
       if (order && !sameOrder(order, this.drawOrder)) this.setDrawOrder(order);
@@ -352,23 +403,27 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     this.drawOrder = Uint32Array.from(order as ArrayLike<number>);
   }
 
-  /** Copies rest or current positions (Float64) in; only at construction. */
-  private writePositions(xy: Float64Array): void {
+  /** Copies rest or current positions (Float64) in: at construction, and with `gather`
+   *  before a pointer's raycast (not uploaded: the shader gathers). */
+  private writePositions(xy: Float64Array, upload = true): void {
     const p = this.positions;
     for (let i = 0, j = 0; i < xy.length; i += 2, j += 3) {
       p[j] = xy[i];
       p[j + 1] = xy[i + 1];
       p[j + 2] = 0;
     }
-    this.posed();
+    if (upload) this.posed();
   }
 
-  /** The positions changed: upload them, and bounds that follow the pose. */
+  /** The positions changed: upload them (with `gather`, the simulation positions), and
+   *  bounds that follow the pose (the simulation mesh's, which holds the rendered one). */
   private posed(): void {
-    this.attribute.needsUpdate = true;
-    const p = this.positions;
+    if (this.gathered) this.gathered.needsUpdate = true;
+    else this.attribute.needsUpdate = true;
+    const p = this.simulation ?? this.positions;
+    const stride = this.simulation ? 2 : 3;
     let minX = Infinity, minY = Infinity, maxX = -Infinity, maxY = -Infinity;
-    for (let j = 0; j < p.length; j += 3) {
+    for (let j = 0; j < p.length; j += stride) {
       const x = p[j], y = p[j + 1];
       if (x < minX) minX = x;
       if (x > maxX) maxX = x;
@@ -417,6 +472,7 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
   private readonly onDown = (e: PointerEvent): void => {
     if (e.button !== 0 || !this.aim(e)) return;
     const puppet = this.puppet!;
+    if (this.gathered) this.writePositions(puppet.positions, false);
     const hits = this.raycaster.intersectObject(this, false);
     const first = hits[0];
     if (!first || first.face == null) return;
@@ -508,6 +564,7 @@ export class PuppetMesh extends THREE.Mesh<THREE.BufferGeometry, THREE.MeshBasic
     this.geometry.dispose();
     for (const m of Array.isArray(this.material) ? this.material : [this.material]) m.dispose();
     if (this.ownsTexture) this.texture.dispose();
+    this.gathered?.dispose();
   }
 }
 

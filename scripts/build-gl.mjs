@@ -35,7 +35,7 @@ export const GL_DIST = join(root, "dist");
 const ENTRIES = ["index", "player", "gl", "layers", "psd", "element", "pixi", "three", "worker"];
 /** The modules of js/gl/ that js/gl.ts exports from (each also in js/tsconfig.json's "files"
  *  and package.json's "files"). */
-const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character"];
+const GL_MODULES = ["error", "affine", "depth", "picture", "shaders", "context", "frame", "resources", "box", "boxview", "painter", "view", "blend", "atlas", "parts", "characterpainter", "character", "gather"];
 /** The modules of js/layers/ (bunraku/layers; js/psd/ imports layer.ts too), likewise. */
 const LAYERS_MODULES = ["layer", "trim", "xml", "canvas", "images", "svg"];
 /** The modules of js/psd/ (bunraku/psd), likewise. */

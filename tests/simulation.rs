@@ -139,3 +139,42 @@ fn a_version_1_document_cannot_hold_a_simulation_mesh_and_bad_ones_are_named() {
     }
     assert_eq!(Player::new(d).unwrap_err().code(), "bad-length");
 }
+
+/// `Σₖ w[k] · sim[triangles[parent[v]][k]]` per rendered vertex: the GPU gather's formula
+/// (issue 26 §11), in the order the core sums.
+fn gathered(s: &bunraku::simulation::Simulation, sim: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let corner = |v: usize, k: usize| sim[s.mesh().triangles()[s.parent()[v] as usize][k] as usize];
+    let w = s.weights();
+    let at = |v: usize, i: usize| {
+        w[v][0] * corner(v, 0)[i] + w[v][1] * corner(v, 1)[i] + w[v][2] * corner(v, 2)[i]
+    };
+    (0..s.parent().len()).map(|v| [at(v, 0), at(v, 1)]).collect()
+}
+
+#[test]
+fn the_simulation_positions_gathered_by_formula_are_the_played_positions() {
+    for method in ["two-step", "injective"] {
+        let mut player = Player::new(document(method)).unwrap();
+        let mut twin = Player::new(document(method)).unwrap();
+        let s = player.simulation().unwrap().clone();
+        let mut want = vec![[0.0; 2]; s.parent().len()];
+        for t in [0.0, 0.25, 0.6, 1.0, 1.5] {
+            twin.positions_into(t, &mut want).unwrap();
+            let sim = player.simulation_positions(t).unwrap().to_vec();
+            assert_eq!(sim.len(), s.mesh().vertices().len());
+            assert_eq!(gathered(&s, &sim), want, "{method} at t = {t}");
+        }
+        assert!(want.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max) > 30.0);
+    }
+}
+
+#[test]
+fn the_simulation_positions_refuse_a_bad_time_and_a_document_without_one() {
+    let mut player = Player::new(document("two-step")).unwrap();
+    assert_eq!(player.simulation_positions(f64::NAN).unwrap_err().code(), "bad-time");
+    let mut d = document("two-step");
+    d.simulation = None;
+    let mut plain = Player::new(d).unwrap();
+    assert!(plain.simulation().is_none());
+    assert_eq!(plain.simulation_positions(0.5).unwrap_err().code(), "bad-simulation");
+}

@@ -6,7 +6,8 @@ import { takeContext, type Canvas } from "./context.js";
 import { depthOrder, hasDepth } from "./depth.js";
 import { PuppetViewError } from "./error.js";
 import { isImage, isImageBitmap, pictureSize, premultipliedCopy, type PictureSource } from "./picture.js";
-import { beginDraw, checkPositions, clearCanvas, createMeshResources, deleteMeshResources, uploadIndices, uploadVertices, watchResources, type MeshResources } from "./resources.js";
+import { checkSimulation, createGatherResources, deleteGatherResources, gatherMesh, uploadGather, uploadSimulation, type GatherMesh, type GatherResources, type GatherSource } from "./gather.js";
+import { beginDraw, checkPositions, clearCanvas, createMeshResources, deleteMeshResources, uploadIndices, uploadVertices, usePicture, watchResources, type MeshResources } from "./resources.js";
 import { FRAGMENT_SHADER } from "./shaders.js";
 
 /** What `MeshPainter` takes besides the canvas. */
@@ -36,6 +37,9 @@ export class MeshPainter {
   private scratch = new Float32Array(0); // positions as float32, reused every frame
   private readonly toClip = new Float32Array(9);
   private mipmapped = false; // the texture's minification filter uses mipmaps
+  private gather: GatherMesh | null = null; // the rendered mesh gathered on the GPU (`setGather`)
+  private gres: GatherResources | null = null;
+  private gatherScratch = new Float32Array(0); // simulation positions as float32, reused
   private readonly unwatch: () => void;
 
   /** Takes the canvas's WebGL2 context (throws `no-webgl2` when there is none). */
@@ -46,11 +50,13 @@ export class MeshPainter {
     this.res = gl.isContextLost() ? null : createMeshResources(gl, FRAGMENT_SHADER);
     const drop = () => {
       this.res = null;
+      this.gres = null;
     };
     const remake = () => {
       this.res = createMeshResources(gl, FRAGMENT_SHADER);
       this.uploadPicture();
       this.uploadMesh();
+      this.uploadGather();
     };
     this.unwatch = watchResources(canvas, () => this.disposed, drop, remake, options.onContextLost);
   }
@@ -77,8 +83,8 @@ export class MeshPainter {
   }
 
   /** The mesh: `triangles` `[a0, b0, c0, …]` and one `[u, v]` per vertex (0..1, v down; a
-   *  `Mesh`'s or `Player`'s `uvs`). Clears the depths (`setDepth` after it). Throws
-   *  `bad-mesh`. */
+   *  `Mesh`'s or `Player`'s `uvs`). Clears the depths and the gather (`setDepth`,
+   *  `setGather` after it). Throws `bad-mesh`. */
   setMesh(triangles: Uint32Array, uvs: Float32Array): void {
     this.alive();
     if (triangles.length % 3 !== 0) throw new PuppetViewError("bad-mesh", `triangles: length ${triangles.length} is not a multiple of 3`);
@@ -92,8 +98,25 @@ export class MeshPainter {
     this.triangles = triangles;
     this.uvs = uvs;
     this.depth = null;
+    this.gather = null;
     if (this.scratch.length !== uvs.length) this.scratch = new Float32Array(uvs.length);
     this.uploadMesh();
+  }
+
+  /**
+   * Gathers the rendered mesh on the GPU from `simulation` (`puppet.simulation`,
+   * `player.simulation`, `mesh.simulation`: the mesh's simulation mesh), or stops (null):
+   * `draw` then takes the simulation mesh's positions (`puppet.updateSimulationInto`,
+   * `player.simulationPositionsInto`: 2 numbers per simulation vertex), uploads only those
+   * (a float texture) and the vertex shader computes each rendered vertex from its parent
+   * triangle. Set the mesh first. Throws `bad-mesh`.
+   */
+  setGather(simulation: GatherSource | null): void {
+    this.alive();
+    const gather = simulation ? gatherMesh(simulation, this.uvs.length / 2) : null;
+    this.gather = gather;
+    if (gather && this.gatherScratch.length !== 2 * gather.count) this.gatherScratch = new Float32Array(2 * gather.count);
+    this.uploadGather();
   }
 
   /** The triangles' depths (`player.triangleDepth`, `puppet.triangleDepth`: one each), or
@@ -116,12 +139,33 @@ export class MeshPainter {
    */
   draw(positions: Float64Array | Float32Array, transform: Affine): boolean {
     this.alive();
+    if (this.gather) return this.drawGathered(positions, transform, this.gather);
     const { gl, res, scratch } = this;
     if (!res || gl.isContextLost()) return false;
     checkPositions(positions, scratch);
     clearCanvas(gl);
     if (this.triangles.length === 0 || !this.picture) return true;
     this.mipmapped = beginDraw(gl, res, this.canvas, this.toClip, transform, this.mipmapped, positions, scratch);
+    gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA); // premultiplied "over"
+    gl.drawElements(gl.TRIANGLES, this.triangles.length, gl.UNSIGNED_INT, 0);
+    gl.bindVertexArray(null);
+    return true;
+  }
+
+  /** `draw` with the gather: `positions` of the simulation mesh, streamed into its texture. */
+  private drawGathered(positions: Float64Array | Float32Array, transform: Affine, gather: GatherMesh): boolean {
+    const { gl, res, gres } = this;
+    if (!res || !gres || gl.isContextLost()) return false;
+    checkSimulation(positions, gather);
+    clearCanvas(gl);
+    if (this.triangles.length === 0 || !this.picture) return true;
+    this.mipmapped = usePicture(gl, gres.program, gres.toClip, res.texture, this.canvas, this.toClip, transform, this.mipmapped);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, gres.texture);
+    uploadSimulation(gl, gather, positions, this.gatherScratch);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindVertexArray(gres.vao);
+    gl.enable(gl.BLEND);
     gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA); // premultiplied "over"
     gl.drawElements(gl.TRIANGLES, this.triangles.length, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
@@ -138,6 +182,8 @@ export class MeshPainter {
     this.res = null;
     this.picture = null;
     if (res) deleteMeshResources(gl, res);
+    if (this.gres) deleteGatherResources(gl, this.gres);
+    this.gres = null;
   }
 
   private alive(): void {
@@ -167,6 +213,14 @@ export class MeshPainter {
     if (!res) return;
     uploadVertices(gl, res, this.scratch.byteLength, this.uvs);
     this.uploadIndices();
+  }
+
+  /** Makes the gather's resources when first needed and uploads its attributes. */
+  private uploadGather(): void {
+    const { gl, res, gather } = this;
+    if (!res || !gather) return;
+    this.gres ??= createGatherResources(gl, FRAGMENT_SHADER, res.uvs, res.indices);
+    uploadGather(gl, this.gres, gather);
   }
 
   /** The triangles in drawing order (by depth when there are depths). */

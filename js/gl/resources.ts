@@ -118,6 +118,30 @@ export function clearCanvas(gl: WebGL2RenderingContext): void {
   gl.clear(gl.COLOR_BUFFER_BIT);
 }
 
+/** `program` in use with `transform` in its `toClip` uniform (through `matrix`, 9 floats)
+ *  and `texture` (the picture) on unit 0, filtered as `beginDraw` says. Returns whether the
+ *  texture is now mipmapped. */
+export function usePicture(
+  gl: WebGL2RenderingContext,
+  program: WebGLProgram,
+  toClip: WebGLUniformLocation,
+  texture: WebGLTexture,
+  canvas: Canvas,
+  matrix: Float32Array,
+  transform: Affine,
+  mipmapped: boolean,
+): boolean {
+  gl.useProgram(program);
+  gl.uniformMatrix3fv(toClip, false, clipMatrix(matrix, transform, canvas.width, canvas.height));
+  gl.activeTexture(gl.TEXTURE0);
+  gl.bindTexture(gl.TEXTURE_2D, texture);
+  const small = drawnSmall(gl, canvas, transform);
+  if (small !== mipmapped) {
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, small ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
+  }
+  return small;
+}
+
 /**
  * The start of a draw: the program with `transform` (mesh units → the canvas's pixels) in
  * `toClip` (9 floats, reused), the texture on unit 0 filtered trilinearly only where
@@ -136,14 +160,7 @@ export function beginDraw(
   positions: Float64Array | Float32Array,
   scratch: Float32Array,
 ): boolean {
-  gl.useProgram(res.program);
-  gl.uniformMatrix3fv(res.toClip, false, clipMatrix(toClip, transform, canvas.width, canvas.height));
-  gl.activeTexture(gl.TEXTURE0);
-  gl.bindTexture(gl.TEXTURE_2D, res.texture);
-  const small = drawnSmall(gl, canvas, transform);
-  if (small !== mipmapped) {
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, small ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR);
-  }
+  const small = usePicture(gl, res.program, res.toClip, res.texture, canvas, toClip, transform, mipmapped);
   let data: Float32Array = scratch;
   if (positions instanceof Float32Array) data = positions;
   else for (let k = 0; k < scratch.length; k++) scratch[k] = positions[k];

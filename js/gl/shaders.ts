@@ -50,15 +50,16 @@ export function compile(gl: WebGL2RenderingContext, type: GLenum, source: string
   return shader;
 }
 
-/** The program of the two shaders, with the attributes at `POSITION` and `UV`; deletes
- *  the shaders. Throws `webgl`. */
-export function link(gl: WebGL2RenderingContext, vertex: WebGLShader, fragment: WebGLShader): WebGLProgram {
+/** The program of the two shaders, with the attributes at `POSITION` and `UV` (and
+ *  `locations`' own, by name); deletes the shaders. Throws `webgl`. */
+export function link(gl: WebGL2RenderingContext, vertex: WebGLShader, fragment: WebGLShader, locations: Record<string, number> = {}): WebGLProgram {
   const program = gl.createProgram();
   if (!program) throw new PuppetViewError("webgl", "WebGL2 could not create a program");
   gl.attachShader(program, vertex);
   gl.attachShader(program, fragment);
   gl.bindAttribLocation(program, POSITION, "a_position");
   gl.bindAttribLocation(program, UV, "a_uv");
+  for (const [name, location] of Object.entries(locations)) gl.bindAttribLocation(program, location, name);
   gl.linkProgram(program);
   if (!gl.getProgramParameter(program, gl.LINK_STATUS)) {
     throw new PuppetViewError("webgl", `a WebGL2 program does not link: ${gl.getProgramInfoLog(program) ?? ""}`);

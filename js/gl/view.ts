@@ -4,6 +4,7 @@
 import type { ViewPlacement } from "./box.js";
 import { BoxView } from "./boxview.js";
 import { PuppetViewError } from "./error.js";
+import type { GatherSource } from "./gather.js";
 import { MeshPainter } from "./painter.js";
 import type { PictureSource } from "./picture.js";
 
@@ -12,6 +13,10 @@ import type { PictureSource } from "./picture.js";
 export interface PuppetViewOptions extends ViewPlacement {
   /** The triangles' depths (`player.triangleDepth`): see `MeshPainter.setDepth`. */
   depth?: Float32Array | null;
+  /** The simulation mesh to gather the rendered mesh from on the GPU (`puppet.simulation`,
+   *  `player.simulation`), or null (the default): `draw` then takes the simulation mesh's
+   *  positions (see `MeshPainter.setGather`). */
+  gather?: GatherSource | null;
   /** Told `true` when the GPU context is lost and `false` once it is back: draw again then
    *  (an animation loop does so anyway). */
   onContextLost?: (lost: boolean) => void;
@@ -34,13 +39,14 @@ export class PuppetView extends BoxView<MeshPainter> {
    *  `[a0, b0, c0, …]`, one `[u, v]` per vertex). Throws a `PuppetViewError`: `no-webgl2`,
    *  `bad-picture`, `bad-mesh`, `bad-length`, `bad-option`. */
   constructor(canvas: HTMLCanvasElement, picture: PictureSource, triangles: Uint32Array, uvs: Float32Array, options: PuppetViewOptions = {}) {
-    const { depth = null } = options;
+    const { depth = null, gather = null } = options;
     super(canvas, options, (painterOptions) => {
       const painter = new MeshPainter(canvas, painterOptions);
       try {
         painter.setPicture(picture);
         painter.setMesh(triangles, uvs);
         painter.setDepth(depth);
+        painter.setGather(gather);
       } catch (e) {
         painter.dispose();
         throw e;
@@ -54,12 +60,19 @@ export class PuppetView extends BoxView<MeshPainter> {
     this.painter.setPicture(picture);
   }
 
-  /** A new mesh (see `MeshPainter.setMesh`); its depths follow, or none. */
-  setMesh(triangles: Uint32Array, uvs: Float32Array, depth: Float32Array | null = null): void {
+  /** A new mesh (see `MeshPainter.setMesh`); its depths and its gather follow, or none. */
+  setMesh(triangles: Uint32Array, uvs: Float32Array, depth: Float32Array | null = null, gather: GatherSource | null = null): void {
     const m = triangles.length / 3;
     if (depth && depth.length !== m) throw new PuppetViewError("bad-length", `depth: got ${depth.length}, expected ${m} (one per triangle)`);
     this.painter.setMesh(triangles, uvs);
     this.painter.setDepth(depth);
+    this.painter.setGather(gather);
+  }
+
+  /** Gathers the rendered mesh on the GPU from `simulation`, or stops (see
+   *  `MeshPainter.setGather`). */
+  setGather(simulation: GatherSource | null): void {
+    this.painter.setGather(simulation);
   }
 
   /** New depths for the triangles (see `MeshPainter.setDepth`). */

@@ -1,11 +1,12 @@
 //! A puppet document's simulation mesh (version 2, `simulation`): the player solves on it
 //! and gathers every frame back to the document's mesh ([`crate::simulation`]).
 
-use super::{check_finite_values, check_len, check_values, fault, DocumentFault};
+use super::player::Engine;
+use super::{check_finite_values, check_len, check_values, fault, DocumentFault, Player};
 use crate::deform::geodesic::Graph;
 use crate::deform::starch;
 use crate::deform::Overlap;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::locate::Locator;
 use crate::simulation::{Embedding, Simulation};
 use crate::Mesh;
@@ -72,4 +73,34 @@ pub(crate) fn overlap_members(
         members.push((0..rendered.len() as u32).filter(|&t| rendered[t as usize]).collect());
     }
     Ok(members)
+}
+
+impl Player {
+    /// The document's simulation mesh, or `None` without one.
+    pub fn simulation(&self) -> Option<&Simulation> {
+        self.carrier.as_ref().map(|c| c.0.simulation())
+    }
+
+    /// The simulation mesh's positions at time `t` (seconds), one point per simulation
+    /// vertex, solved into the player's own buffer (allocating nothing) and not gathered:
+    /// what [`Player::positions_into`] gathers from, for a renderer that gathers on the GPU
+    /// (vertex `v`'s position is its parent's corners here weighted by its weights).
+    /// Errors, the player unchanged: [`Error::BadTime`] (not finite),
+    /// [`Error::BadSimulation`] (the document has no simulation mesh).
+    pub fn simulation_positions(&mut self, t: f64) -> Result<&[[f64; 2]]> {
+        if !t.is_finite() {
+            return Err(Error::BadTime { time: t, reason: "is not finite" });
+        }
+        let Some(c) = self.carrier.as_deref_mut() else {
+            let reason = "the document has no simulation mesh".to_string();
+            return Err(Error::BadSimulation { what: "vertices", index: 0, reason });
+        };
+        if let Engine::Still = self.engine {
+            c.1.copy_from_slice(c.0.simulation().mesh().vertices());
+            return Ok(&c.1);
+        }
+        let t = if self.looping && self.duration > 0.0 { t.rem_euclid(self.duration) } else { t };
+        self.engine.positions_into(t, &mut c.1)?;
+        Ok(&c.1)
+    }
 }

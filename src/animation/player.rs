@@ -76,13 +76,13 @@ pub struct Player {
     mesh: Mesh,
     /// The simulation mesh the engine solves on, when the document has one, with a buffer
     /// of its positions to gather from.
-    carrier: Option<Box<(Embedding, Vec<[f64; 2]>)>>,
+    pub(super) carrier: Option<Box<(Embedding, Vec<[f64; 2]>)>>,
     uvs: Vec<[f32; 2]>,
     depths: Depths,
-    duration: f64,
-    looping: bool,
+    pub(super) duration: f64,
+    pub(super) looping: bool,
     mode: Mode,
-    engine: Engine,
+    pub(super) engine: Engine,
     /// A layered character's parts and draw order.
     layered: Option<Layered>,
 }

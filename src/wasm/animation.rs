@@ -239,14 +239,14 @@ impl JsTrack {
 /// ```
 #[wasm_bindgen(js_name = Player)]
 pub struct JsPlayer {
-    player: animation::Player,
+    pub(super) player: animation::Player,
     out: Vec<[f64; 2]>,
     /// The triangles' depths of the frame and of the frame before (`triangleDepthInto`),
     /// the latter `None` before the first call.
     depths: Vec<f32>,
     previous: Option<Vec<f32>>,
     /// `positionsInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
-    staging: Vec<f32>,
+    pub(super) staging: Vec<f32>,
     /// The document as loaded, as JSON text (what `toJSON` parses again: the numbers as
     /// given, bit for bit, with no serialiser in the module).
     text: js_sys::JsString,

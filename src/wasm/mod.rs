@@ -45,6 +45,7 @@ mod dynamics;
 mod errors;
 #[cfg(feature = "authoring")]
 mod flatten;
+mod gather;
 mod keys;
 #[cfg(feature = "authoring")]
 mod mesh;

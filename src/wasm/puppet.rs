@@ -38,6 +38,8 @@ pub struct Puppet {
     /// The simulation pins' targets of the last update, and the rendered positions.
     pub(super) simulation_targets: Vec<[f64; 2]>,
     pub(super) rendered: Vec<[f64; 2]>,
+    /// `rendered` is behind the simulation mesh (`updateSimulationInto` gathers nothing).
+    pub(super) stale: bool,
     pub(super) pinned: Option<Pinned>,
     /// The targets and rotations of the last update, kept so that an update allocates
     /// nothing.
@@ -51,7 +53,7 @@ pub struct Puppet {
     /// pins go on.
     character: Option<SharedCharacter>,
     /// `updateInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
-    staging: Vec<f32>,
+    pub(super) staging: Vec<f32>,
 }
 
 #[wasm_bindgen]
@@ -368,6 +370,7 @@ impl Puppet {
         self.placed.targets(&self.targets, &self.rotations, &mut self.simulation_targets);
         let simulated = p.update_with(&self.simulation_targets, &self.rotations)?;
         e.gather(simulated, &mut self.rendered);
+        self.stale = false;
         Ok(self.rendered.as_flattened())
     }
 
@@ -383,16 +386,21 @@ impl Puppet {
 
     /// The positions of the last update (the rest shape before the first), one per
     /// rendered vertex.
-    fn current(&self) -> &[[f64; 2]] {
+    fn current(&self) -> std::borrow::Cow<'_, [[f64; 2]]> {
         match (&self.embedding, &self.pinned) {
-            (Some(_), _) => &self.rendered,
-            (None, Some(p)) => p.positions(),
-            (None, None) => self.rest.mesh().vertices(),
+            (Some(e), _) if self.stale => {
+                let mut gathered = vec![[0.0; 2]; self.rendered.len()];
+                e.gather(self.simulated(), &mut gathered);
+                gathered.into()
+            }
+            (Some(_), _) => self.rendered[..].into(),
+            (None, Some(p)) => p.positions().into(),
+            (None, None) => self.rest.mesh().vertices().into(),
         }
     }
 
     /// The simulation mesh's positions of the last update (the rest shape before the first).
-    fn simulated(&self) -> &[[f64; 2]] {
+    pub(super) fn simulated(&self) -> &[[f64; 2]] {
         match &self.pinned {
             Some(p) => p.positions(),
             None => self.rest.mesh().vertices(),
@@ -454,7 +462,7 @@ impl Puppet {
     /// The positions computed by the last update (the rest shape before the first).
     #[wasm_bindgen(getter)]
     pub fn positions(&self) -> Float64Array {
-        flat(self.current())
+        flat(&self.current())
     }
 
     /// The largest distance, in the mesh's units, between a pin's point on the last
@@ -492,6 +500,7 @@ impl Puppet {
         }
         if let Some(e) = &self.embedding {
             self.rendered.copy_from_slice(e.rendered().vertices());
+            self.stale = false;
         }
     }
 
@@ -525,7 +534,7 @@ impl Puppet {
     /// arrays.
     #[wasm_bindgen(unchecked_return_type = "Quality")]
     pub fn quality(&self) -> Result<JsValue, Thrown> {
-        Ok(quality_object(&crate::quality::quality_2d(self.rendered_mesh(), self.current())?))
+        Ok(quality_object(&crate::quality::quality_2d(self.rendered_mesh(), &self.current())?))
     }
 }
 
@@ -564,6 +573,7 @@ impl Puppet {
             placed: PlacedPins::default(),
             simulation_targets: Vec::new(),
             rendered,
+            stale: false,
             pinned: None,
             targets: Vec::new(),
             rotations: Vec::new(),

@@ -56,6 +56,7 @@ impl Puppet {
                 self.placed.targets(&self.targets, &self.rotations, &mut self.simulation_targets);
                 let settled = p.settle(&self.simulation_targets, &self.rotations, max_solves)?;
                 e.gather(p.positions(), &mut self.rendered);
+                self.stale = false;
                 settled
             }
         };

@@ -106,6 +106,8 @@ before(() => {
     "dist/gl/error.js",
     "dist/gl/frame.d.ts",
     "dist/gl/frame.js",
+    "dist/gl/gather.d.ts",
+    "dist/gl/gather.js",
     "dist/gl/painter.d.ts",
     "dist/gl/painter.js",
     "dist/gl/parts.d.ts",
