@@ -11,6 +11,7 @@ use super::animation::JsPlayer;
 use super::errors::{bad_type, Thrown};
 use super::pins::read_rotations;
 use super::positions::{positions_out, PositionsOut};
+#[cfg(feature = "authoring")]
 use super::puppet::Puppet;
 use super::simulation::simulation_object;
 use super::{read_exact, typed};
@@ -28,6 +29,8 @@ fn simulation_out(out: &JsValue, n: usize) -> Result<PositionsOut<'_>, Thrown> {
     }
 }
 
+// The playback build (no `Puppet`) keeps the player's calls below.
+#[cfg(feature = "authoring")]
 #[wasm_bindgen]
 impl Puppet {
     /// Like `updateInto`, but writes only the simulation mesh's positions into `out`

@@ -59,7 +59,6 @@ mod render;
 mod rig;
 #[cfg(feature = "authoring")]
 mod settle;
-#[cfg(feature = "authoring")]
 mod simulation;
 mod spring;
 
