@@ -4,12 +4,13 @@
 // --frames animation frames and drawn by `bunraku/gl`'s `PuppetView`, five ways in the same
 // run, blocks of 20 frames alternated:
 // - a generated mesh of about --vertices (1M) rendered vertices, every simulation triangle
-//   split g × g, its parents and weights known by construction (the library's meshes stop at
-//   131,072 vertices, so this one is made in JavaScript and drawn without a wasm mesh):
+//   split g × g, its parents and weights known by construction (made in JavaScript and drawn
+//   without a wasm mesh: a cross-check of the library's own, below):
 //   GPU gather (`updateSimulationInto`, then `draw` with `gather`: one or two texSubImage2D
 //   of the simulation positions), and CPU gather (the same solve, the gather in JavaScript,
 //   a bufferSubData of 8 MB);
-// - the library's largest mesh on it (`mesh.refine(k)` within the limit): GPU gather, and
+// - the library's mesh of about --vertices on it (`mesh.refine(k)`; a rendered mesh on a
+//   simulation mesh may have up to 2^20 vertices): GPU gather, and
 //   the CPU gather of `updateInto` (wasm) with its bufferSubData;
 // - the simulation mesh drawn as it is (a 2k-vertex picture): `updateInto`, bufferSubData.
 // Page work per frame is the JS time in the frame callback (solve + gather + upload + draw
@@ -58,8 +59,8 @@ async function run({ vertices, frames, method, side }) {
   };
   const rgba = window.character(side, side);
   const [coarse, meshing] = timed(() => Mesh.fromImage(rgba, side, side, { maxVertices: 2000, simulationVertices: 0 }));
-  // The library's largest: the coarse mesh refined as finely as its vertex limit allows.
-  let k = Math.floor(Math.sqrt(131072 / coarse.vertexCount)) + 1;
+  // The library's own: the coarse mesh refined to about `vertices` (within 2^20).
+  let k = Math.floor(Math.sqrt(Math.min(vertices, 1 << 20) / coarse.vertexCount)) + 1;
   let fine = null;
   let refining = 0;
   while (!fine && --k > 1) {
@@ -232,7 +233,7 @@ try {
   console.log();
   const M = (x) => `${(x / 1e6).toFixed(2)}M`;
   console.log(`${options.side}² picture meshed at ${r.coarse} vertices (the simulation mesh; ${ms(r.meshing)} ms); method ${options.method}`);
-  console.log(`- the library's largest rendered mesh on it: refined ${r.k} × ${r.k}, ${r.rendered} vertices, ${r.triangles} triangles (${ms(r.refining)} ms; meshes are limited to 131,072 vertices)`);
+  console.log(`- the library's rendered mesh on it: refined ${r.k} × ${r.k}, ${r.rendered} vertices, ${r.triangles} triangles (${ms(r.refining)} ms; a rendered mesh on a simulation mesh may have 2^20 vertices)`);
   console.log(`- generated: every simulation triangle split ${r.big.g} × ${r.big.g}, ${M(r.big.vertices)} vertices, ${M(r.big.triangles)} triangles (${ms(r.generating)} ms in JavaScript)`);
   console.log();
   console.log("| setup | ms |");

@@ -16,6 +16,15 @@ pub const MAX_PIXELS: u64 = 1 << 26;
 /// refused from its estimated size before it starts, registration from the count.
 pub const MAX_VERTICES: usize = 1 << 17;
 
+/// The most vertices a rendered mesh carried by a simulation mesh may have: 2²⁰ =
+/// 1,048,576, a 4096² picture at full detail. Every method solves on the simulation mesh
+/// (itself within [`MAX_VERTICES`]); the rendered vertices only follow their parent
+/// triangles, on the CPU (`updateInto`) or on the GPU (`updateSimulationInto` and a
+/// gathering renderer), so a frame's solve does not grow with them. Registering such a mesh
+/// still validates it and locates its vertices: about 8 bytes of wasm memory and a few
+/// hundred nanoseconds per rendered triangle.
+pub const MAX_RENDERED_VERTICES: usize = 1 << 20;
+
 /// The largest magnitude a target coordinate may have: far beyond any screen, and small
 /// enough that `w²·target` cannot overflow.
 pub const MAX_COORDINATE: f64 = 1e100;

@@ -5,7 +5,7 @@
 
 use crate::error::{check_finite, points_from_flat, Error, Result};
 use crate::geometry::{bbox_diagonal, cross, dot, sub};
-use crate::limits::MAX_VERTICES;
+use crate::limits::{MAX_RENDERED_VERTICES, MAX_VERTICES};
 pub use crate::topology::Edge;
 use crate::topology::{build_edges, chain_loops, check_duplicates, components, NO_TRIANGLE};
 
@@ -36,12 +36,24 @@ impl Mesh {
     /// [`Error::DegenerateTriangle`], [`Error::DuplicateTriangle`],
     /// [`Error::NonManifoldEdge`], [`Error::FoldedEdge`], [`Error::UnusedVertex`].
     /// Cost: O(t log t) for t triangles.
-    pub fn new(vertices: Vec<[f64; 2]>, mut triangles: Vec<[u32; 3]>) -> Result<Mesh> {
+    pub fn new(vertices: Vec<[f64; 2]>, triangles: Vec<[u32; 3]>) -> Result<Mesh> {
+        Mesh::within(vertices, triangles, MAX_VERTICES)
+    }
+
+    /// [`Mesh::new`] for a rendered mesh that a simulation mesh carries: up to
+    /// [`MAX_RENDERED_VERTICES`] vertices rather than [`MAX_VERTICES`], since no method
+    /// solves on it. The same checks and errors otherwise.
+    pub fn new_rendered(vertices: Vec<[f64; 2]>, triangles: Vec<[u32; 3]>) -> Result<Mesh> {
+        Mesh::within(vertices, triangles, MAX_RENDERED_VERTICES)
+    }
+
+    /// [`Mesh::new`] with at most `limit` vertices.
+    fn within(vertices: Vec<[f64; 2]>, mut triangles: Vec<[u32; 3]>, limit: usize) -> Result<Mesh> {
         if triangles.is_empty() {
             return Err(Error::EmptyMesh);
         }
-        if vertices.len() > MAX_VERTICES {
-            let (count, limit) = (vertices.len() as f64, MAX_VERTICES);
+        if vertices.len() > limit {
+            let count = vertices.len() as f64;
             return Err(Error::TooMany { what: "vertices", count, estimated: false, limit });
         }
         check_finite("vertices", &vertices)?;
@@ -87,6 +99,13 @@ impl Mesh {
     pub fn from_flat(vertices: &[f64], triangles: &[u32]) -> Result<Mesh> {
         let v = points_from_flat("vertices", vertices)?;
         Mesh::new(v, triples_from_flat("triangles", triangles)?)
+    }
+
+    /// [`Mesh::from_flat`] for a rendered mesh that a simulation mesh carries (up to
+    /// [`MAX_RENDERED_VERTICES`] vertices: [`Mesh::new_rendered`]).
+    pub fn from_flat_rendered(vertices: &[f64], triangles: &[u32]) -> Result<Mesh> {
+        let v = points_from_flat("vertices", vertices)?;
+        Mesh::new_rendered(v, triples_from_flat("triangles", triangles)?)
     }
 
     /// The rest positions, one per vertex.

@@ -178,3 +178,37 @@ fn the_simulation_positions_refuse_a_bad_time_and_a_document_without_one() {
     assert!(plain.simulation().is_none());
     assert_eq!(plain.simulation_positions(0.5).unwrap_err().code(), "bad-simulation");
 }
+
+/// A rendered mesh carried by a simulation mesh may have up to `MAX_RENDERED_VERTICES`
+/// (2²⁰) vertices, where a mesh solved on is limited to `MAX_VERTICES` (2¹⁷): `refine`
+/// builds one above the solved limit, a puppet registers on it and updates, `Mesh::new`
+/// refuses the same vertices, and `refine` still refuses more than 2²⁰ before any work.
+#[test]
+fn a_rendered_mesh_on_a_simulation_mesh_may_exceed_the_solved_mesh_limit() {
+    use bunraku::limits::{MAX_RENDERED_VERTICES, MAX_VERTICES};
+    let outline = [[0.0, 0.0], [300.0, 0.0], [300.0, 100.0], [0.0, 100.0]];
+    let coarse = shape_from_outline(&outline, &[], &OutlineOptions::new().with_spacing(10.0)).unwrap();
+    let k = ((2.4 * MAX_VERTICES as f64 / coarse.mesh().triangles().len() as f64).sqrt().ceil()) as u32;
+    let fine = coarse.refine(k).unwrap();
+    let n = fine.mesh().vertices().len();
+    assert!(n > MAX_VERTICES && n <= MAX_RENDERED_VERTICES, "{n} rendered vertices");
+    let refused = bunraku::Mesh::new(fine.mesh().vertices().to_vec(), fine.mesh().triangles().to_vec());
+    assert!(matches!(refused, Err(bunraku::Error::TooMany { limit, .. }) if limit == MAX_VERTICES));
+    let embedding = Embedding::new(fine.mesh().clone(), fine.simulation().unwrap().clone()).unwrap();
+    let rest = Rest::register(embedding.simulation().mesh().clone(), Options::two_step()).unwrap();
+    let pins = [Pin::from(Handle::Point([10.0, 50.0])), Pin::from(Handle::Point([290.0, 50.0]))];
+    let placed = embedding.place_pins(&pins).unwrap();
+    let mut pinned = rest.compile_pins(&placed.pins).unwrap();
+    let mut mapped = [[0.0; 2]; 2];
+    placed.targets(&[[10.0, 50.0], [290.0, 80.0]], &[Rotation::default(); 2], &mut mapped);
+    let mut moved = vec![[0.0; 2]; n];
+    embedding.gather(pinned.update(&mapped).unwrap(), &mut moved);
+    assert!(moved.iter().all(|p| p[0].is_finite() && p[1].is_finite()));
+    assert!(moved.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max) > 75.0);
+    // 2²⁰ / (k² · t) more than that: refused from the count, before any work.
+    let too_fine = ((1.1 * MAX_RENDERED_VERTICES as f64 * 2.0 / coarse.mesh().triangles().len() as f64)
+        .sqrt()
+        .ceil()) as u32;
+    assert!(too_fine <= 64, "{too_fine}");
+    assert!(coarse.refine(too_fine).is_err());
+}

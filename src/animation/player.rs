@@ -182,7 +182,8 @@ impl Player {
             return Err(fault(DocumentFault::Length, "mesh.triangles".into(), reason));
         }
         check_finite_values("mesh.vertices", &m.vertices)?;
-        let mesh = Mesh::from_flat(&m.vertices, &m.triangles)?;
+        let flat = if d.simulation.is_some() { Mesh::from_flat_rendered } else { Mesh::from_flat };
+        let mesh = flat(&m.vertices, &m.triangles)?;
         let n = mesh.vertices().len();
         let uvs = match &m.uvs {
             Some(uvs) => {

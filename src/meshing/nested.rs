@@ -4,7 +4,7 @@
 //! snapped back onto the fine outline ([`crate::simulation`]).
 
 use crate::error::{Error, Result};
-use crate::limits::MAX_VERTICES;
+use crate::limits::MAX_RENDERED_VERTICES;
 use crate::mesh::Mesh;
 use crate::meshing::loops::simplify_all;
 use crate::meshing::outline::{estimate_vertices, OutlineOptions};
@@ -83,8 +83,8 @@ pub(crate) fn nested_mesh(
     let unsnapped = loop {
         let mesh = simulation_mesh(fine, components, coarse_spacing, min_angle_deg)?;
         let count = refined_vertex_count(&mesh, k);
-        if budget.is_none() && count > MAX_VERTICES {
-            let limit = MAX_VERTICES;
+        if budget.is_none() && count > MAX_RENDERED_VERTICES {
+            let limit = MAX_RENDERED_VERTICES;
             return Err(Error::TooMany { what: "vertices", count: count as f64, estimated: true, limit });
         }
         if count as f64 > over_refined {
@@ -110,7 +110,7 @@ pub(crate) fn nested_mesh(
     let simulation_mesh = Mesh::new(vertices, unsnapped.triangles().to_vec())?;
     let mut r = refinement(&simulation_mesh, k)?;
     snap_refinement(&arcs, &placement, &simulation_mesh, &mut r);
-    let rendered = Mesh::new(r.vertices, r.triangles)?;
+    let rendered = Mesh::new_rendered(r.vertices, r.triangles)?;
     let simulation = Simulation::new(simulation_mesh, r.parent, r.weights, &rendered)?;
     Ok(Some((rendered, simulation)))
 }
@@ -149,9 +149,9 @@ pub(crate) fn nested_outline(
     let p = perimeter(outer) + holes.iter().map(|h| perimeter(h)).sum::<f64>();
     let points = outer.len() + holes.iter().map(Vec::len).sum::<usize>();
     let estimate = estimate_vertices(a, p, spacing) + points as f64;
-    if options.max_vertices.is_none() && estimate > MAX_VERTICES as f64 {
+    if options.max_vertices.is_none() && estimate > MAX_RENDERED_VERTICES as f64 {
         // Refused before the simulation mesh is made (which would take seconds).
-        let limit = MAX_VERTICES;
+        let limit = MAX_RENDERED_VERTICES;
         return Err(Error::TooMany { what: "vertices", count: estimate, estimated: true, limit });
     }
     let Some(k) = factor_for(estimate, options.simulation_vertices) else { return Ok(None) };

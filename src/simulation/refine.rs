@@ -12,7 +12,7 @@ use crate::mesh::Mesh;
 pub const MAX_FACTOR: u32 = 64;
 
 /// The largest rendered mesh [`refine`] builds, in vertices.
-pub const MAX_RENDERED_VERTICES: usize = crate::limits::MAX_VERTICES;
+pub use crate::limits::MAX_RENDERED_VERTICES;
 
 /// A refinement before it becomes a [`Simulation`]: the rendered vertices and triangles,
 /// each rendered vertex's parent and weights, and where it sits on the simulation mesh.
@@ -52,7 +52,7 @@ pub fn refined_vertex_count(mesh: &Mesh, k: u32) -> usize {
 /// ```
 pub fn refine(mesh: &Mesh, k: u32) -> Result<(Mesh, Simulation)> {
     let r = refinement(mesh, k)?;
-    let rendered = Mesh::new(r.vertices, r.triangles)?;
+    let rendered = Mesh::new_rendered(r.vertices, r.triangles)?;
     let simulation = Simulation::new(mesh.clone(), r.parent, r.weights, &rendered)?;
     Ok((rendered, simulation))
 }

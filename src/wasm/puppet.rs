@@ -73,7 +73,14 @@ impl Puppet {
         let parsed = register_options(&options)?;
         let vertices = items::<Float64Array, 2>("vertices", &vertices)?;
         let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
-        let mesh = Mesh::new(vertices, triangles)?;
+        // A mesh a simulation mesh carries may be larger (`MAX_RENDERED_VERTICES`).
+        let simulation = options.is_object()
+            && js_sys::Reflect::get(&options, &"simulation".into()).is_ok_and(|s| !s.is_undefined());
+        let mesh = if simulation {
+            Mesh::new_rendered(vertices, triangles)?
+        } else {
+            Mesh::new(vertices, triangles)?
+        };
         let embedding = simulation_option(&options, &mesh)?;
         Puppet::new(mesh, embedding, parsed)
     }

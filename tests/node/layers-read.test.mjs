@@ -287,14 +287,15 @@ test("arguments and options are checked", () => {
 
 // --- hostile PSD files ---------------------------------------------------------------------
 
-/** Runs `fn`, which must throw `code`, quickly and without growing the process's array
- *  buffers by more than 16 MiB. */
+/** Runs `fn`, which must throw `code`, quickly (within 5 s: the refusals take a few ms, and
+ *  what this guards against is a hostile file that parses for a minute; a loaded machine
+ *  took 557 ms once) and without growing the process's array buffers by more than 16 MiB. */
 function hostile(fn, code, pattern) {
   const before = process.memoryUsage().arrayBuffers;
   const t0 = performance.now();
   throwsCoded(fn, code, pattern);
   const ms = performance.now() - t0;
-  assert.ok(ms < 500, `took ${ms.toFixed(0)} ms`);
+  assert.ok(ms < 5000, `took ${ms.toFixed(0)} ms`);
   assert.ok(process.memoryUsage().arrayBuffers - before < 16 << 20, "allocated large buffers");
 }
 

@@ -277,3 +277,27 @@ test("a version 2 document with a simulation mesh plays on it and round-trips", 
   puppet.free();
   mesh.free();
 });
+
+test("a rendered mesh on a simulation mesh may have more vertices than a solved one (2^20 against 2^17)", () => {
+  const coarse = Mesh.fromOutline(new Float64Array([0, 0, 300, 0, 300, 100, 0, 100]), [], { spacing: 10 });
+  const k = Math.ceil(Math.sqrt((2.4 * 131072) / coarse.triangleCount));
+  const fine = coarse.refine(k);
+  assert.ok(fine.vertexCount > 131072 && fine.vertexCount <= 1 << 20, `${fine.vertexCount} rendered vertices`);
+  // Solved on directly: refused from the count.
+  assert.throws(() => Puppet.register(fine.vertices, fine.triangles), (e) => e.code === "too-large" && /131072/.test(e.message));
+  // Carried by its simulation mesh: registered, posed, every rendered vertex written.
+  for (const puppet of [Puppet.fromMesh(fine, { method: "two-step" }), Puppet.register(fine.vertices, fine.triangles, { method: "two-step", simulation: fine.simulation })]) {
+    assert.equal(puppet.vertexCount, fine.vertexCount);
+    puppet.compile(new Float64Array([10, 50, 290, 50]));
+    const out = new Float32Array(2 * fine.vertexCount);
+    puppet.updateInto(new Float64Array([10, 50, 290, 80]), out);
+    let low = -Infinity;
+    for (let i = 1; i < out.length; i += 2) low = Math.max(low, out[i]);
+    assert.ok(out.every(Number.isFinite) && low > 75, `the right end followed its pin: ${low}`);
+    puppet.free();
+  }
+  // More than 2^20: refused before any work.
+  assert.throws(() => coarse.refine(Math.ceil(Math.sqrt((2.2 * (1 << 20)) / coarse.triangleCount))), (e) => e.code === "bad-option");
+  fine.free();
+  coarse.free();
+});
