@@ -74,7 +74,7 @@ export type DocumentArray = number[] | EncodedArray;
 /** Options of `player.toJSON(options)`. */
 export interface DocumentWriteOptions {
   /** `"float64"` (the default): every number as loaded, bit for bit. `"float32"`: the poses'
-   *  positions and the track's targets rounded to 32-bit floats (what a GPU draws; a third smaller). */
+   *  positions and the track's targets rounded to 32-bit floats (what a GPU draws; about a quarter smaller). */
   precision?: "float64" | "float32";
   /** `"base64"` (the default): typed arrays encoded (`EncodedArray`). `"numbers"`: plain arrays. */
   arrays?: "base64" | "numbers";
