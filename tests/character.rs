@@ -373,7 +373,7 @@ fn a_character_document_round_trips_and_plays_glued_with_a_keyed_draw_order() {
     let text = d.to_json();
     let back = Document::from_json(&text).unwrap();
     // Written as version 4 (typed arrays as base64), the same values.
-    assert_eq!(back, Document { version: 4, ..d });
+    assert_eq!(back, Document { version: 4, ..d.clone() });
     assert_eq!(back.to_json(), text, "bit for bit");
 
     let mut player = Player::new(back).unwrap();

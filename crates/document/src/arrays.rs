@@ -40,8 +40,10 @@ pub struct Writing {
 thread_local! {
     /// Whether the document being read may hold encoded arrays (version 4 and later).
     static ENCODED_READ: Cell<bool> = const { Cell::new(true) };
-    /// How the document being written writes its arrays.
-    static WRITING: Cell<Writing> = const { Cell::new(Writing { numbers: false, float32: false }) };
+    /// How the document being written writes its arrays: plain numbers outside
+    /// [`crate::Document::to_json_with`] (serde used directly keeps the document's version,
+    /// so it writes what every version reads).
+    static WRITING: Cell<Writing> = const { Cell::new(Writing { numbers: true, float32: false }) };
 }
 
 /// Runs `f` with encoded arrays allowed or refused (a document older than version 4).
