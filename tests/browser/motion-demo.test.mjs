@@ -269,7 +269,7 @@ test("the swing tool: a swung pin trails where its roots carry it, then settles 
   assert.deepEqual(errors, []);
 });
 
-test("a document saves the parameters, keyforms, channels and a parameter swing as version 3, plays its channels, and opens again with all of them", { timeout: TIMEOUT }, async (t) => {
+test("a document saves the parameters, keyforms, channels and a parameter swing (version 4: version 3's fields, arrays encoded), plays its channels, and opens again with all of them", { timeout: TIMEOUT }, async (t) => {
   const { page, errors } = await withWave(t);
   // A second parameter, "ear", keyed at 1 with the hand raised further, swung by wave.
   await addParameter(page, "ear");
