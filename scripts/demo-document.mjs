@@ -10,7 +10,9 @@
 // assets/gingerbread.png beside it.
 //
 // tests/browser/animation.test.mjs makes a fresh document with `makeDemoDocument` and
-// plays it with `Player` in Node.
+// plays it with `Player` in Node. The demo now saves version 4 (issue 26 §8: typed arrays
+// as base64); the shipped file is the version-1 document made before, kept to test that
+// version: do not regenerate it without keeping a version-1 document elsewhere.
 //
 //   node scripts/demo-document.mjs [out]     (default: assets/gingerbread.bunraku.json)
 

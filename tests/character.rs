@@ -372,7 +372,8 @@ fn a_character_document_round_trips_and_plays_glued_with_a_keyed_draw_order() {
     d.draw_order_track = Some(DrawOrderTrackJson { times: vec![1.0], orders: vec![vec![1, 0, 2]] });
     let text = d.to_json();
     let back = Document::from_json(&text).unwrap();
-    assert_eq!(back, d);
+    // Written as version 4 (typed arrays as base64), the same values.
+    assert_eq!(back, Document { version: 4, ..d.clone() });
     assert_eq!(back.to_json(), text, "bit for bit");
 
     let mut player = Player::new(back).unwrap();

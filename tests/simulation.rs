@@ -75,7 +75,8 @@ fn a_document_with_a_simulation_mesh_round_trips_bit_for_bit() {
     let d = document("two-step");
     let text = d.to_json();
     let back = Document::from_json(&text).unwrap();
-    assert_eq!(back, d);
+    // Written as version 4 (typed arrays as base64), the same values.
+    assert_eq!(back, Document { version: 4, ..d });
     assert_eq!(back.to_json(), text);
 }
 

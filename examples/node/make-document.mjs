@@ -58,7 +58,9 @@ const document = {
   track: track.toJSON(),
   loop: true,
 };
-// Loading checks the document; saving the player writes it back, every number as it was.
+// Loading checks the document; saving the player writes it back, every number as it was,
+// as version 4 (typed arrays as base64). The shipped wave.bunraku.json is the version-1
+// document this script wrote before version 4, kept to test that version.
 const player = Player.load(document);
 writeFileSync(out, JSON.stringify(player) + "\n");
 console.log(

@@ -219,7 +219,7 @@ impl JsTrack {
     /// `non-finite`.
     #[wasm_bindgen(js_name = fromJSON)]
     pub fn from_json(
-        #[wasm_bindgen(unchecked_param_type = "string | TrackJSON")] json: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "string | TrackJSON<DocumentArray>")] json: JsValue,
     ) -> Result<JsTrack, Thrown> {
         let data = TrackJson::from_json(&json_text(json)?, "track").map_err(Error::from)?;
         Ok(JsTrack::wrap(Track::from_json(&data)?))
@@ -247,9 +247,6 @@ pub struct JsPlayer {
     previous: Option<Vec<f32>>,
     /// `positionsInto`'s `f32` positions before they are copied out (`Float32Array` outputs).
     pub(super) staging: Vec<f32>,
-    /// The document as loaded, as JSON text (what `toJSON` parses again: the numbers as
-    /// given, bit for bit, with no serialiser in the module).
-    text: js_sys::JsString,
 }
 
 #[wasm_bindgen(js_class = Player)]
@@ -257,8 +254,9 @@ impl JsPlayer {
     /// Reads a puppet document (`PuppetDocument`, or its JSON text) and prepares its
     /// playback: checks the header, every field and value, then compiles the pins (a track)
     /// or adds the poses to a blender (weights). Throws, naming the field (`error.field`):
-    /// `bad-version` (a version other than 1, 2 or 3), `bad-document` (not JSON, the wrong
-    /// `format`, a missing, unknown or mistyped field), `bad-length` (a pose, `uvs` or
+    /// `bad-version` (a version other than 1 to 4), `bad-document` (not JSON, the wrong
+    /// `format`, a missing, unknown or mistyped field, an encoded array that does not
+    /// decode, or one in a document older than version 4), `bad-length` (a pose, `uvs` or
     /// track of the wrong length), `non-finite`, and the mesh's, pins' and poses' own
     /// errors (`index-out-of-range`, `handle-outside`, `flipped-triangles`, …).
     pub fn load(
@@ -268,7 +266,7 @@ impl JsPlayer {
         let player = animation::Player::new(Document::from_json(&text).map_err(Error::from)?)?;
         let out = vec![[0.0; 2]; player.mesh().vertices().len()];
         let depths = player.triangle_depths().to_vec();
-        Ok(JsPlayer { player, out, depths, previous: None, staging: Vec::new(), text: text.into() })
+        Ok(JsPlayer { player, out, depths, previous: None, staging: Vec::new() })
     }
 
     /// The positions at time `t` (seconds; with `loop`, `t` modulo `duration`) as a new
@@ -480,12 +478,48 @@ impl JsPlayer {
         object.into()
     }
 
-    /// The document as plain data, field for field and number for number as it was loaded:
-    /// `JSON.stringify(player)` saves it, `Player.load` reads it back bit for bit.
+    /// The document as plain data, version 4 whatever version was loaded: every field as it
+    /// was loaded, its typed arrays encoded (`{ dtype, base64 }`: numbers as `"f64"`, or
+    /// `"f32"` when every one is a 32-bit float, or plain when that is shorter; `uvs` as
+    /// 32-bit floats; indices in the narrowest unsigned type), so that it plays bit for bit
+    /// as loaded, and `JSON.stringify(player)` saves it. `options.precision`: `"float64"` (the default, lossless) or `"float32"`
+    /// (poses' positions and the track's targets rounded to 32-bit floats, as a GPU draws
+    /// them); `options.arrays`: `"base64"` (the default) or `"numbers"` (plain arrays).
+    /// Another argument (`JSON.stringify` passes a key) counts as no options. Throws
+    /// `bad-option` for an unknown value.
     #[wasm_bindgen(js_name = toJSON, unchecked_return_type = "PuppetDocument")]
-    pub fn to_json(&self) -> Result<JsValue, Thrown> {
-        js_sys::JSON::parse(&String::from(&self.text)).map_err(|_| bad("", "could not be read back".into()))
+    pub fn to_json(
+        &self,
+        #[wasm_bindgen(unchecked_optional_param_type = "DocumentWriteOptions")] options: JsValue,
+    ) -> Result<JsValue, Thrown> {
+        let how = match options.is_object() {
+            true => write_options(&OptionFields::open(&options, &["precision", "arrays"])?)?,
+            false => animation::Writing::default(),
+        };
+        let text = self.player.document().to_json_with(how);
+        js_sys::JSON::parse(&text).map_err(|_| bad("", "could not be read back".into()))
     }
+}
+
+/// How a document is written, from the options `precision` and `arrays` among `fields`
+/// (`player.toJSON`, `character.toDocument`).
+pub(crate) fn write_options(fields: &OptionFields) -> Result<animation::Writing, Thrown> {
+    let mut how = animation::Writing::default();
+    if let Some(v) = fields.get("precision")? {
+        how.float32 = match v.as_string().as_deref() {
+            Some("float64") => false,
+            Some("float32") => true,
+            _ => return Err(bad_option("precision", &v, "is not \"float64\" or \"float32\"")),
+        };
+    }
+    if let Some(v) = fields.get("arrays")? {
+        how.numbers = match v.as_string().as_deref() {
+            Some("base64") => false,
+            Some("numbers") => true,
+            _ => return Err(bad_option("arrays", &v, "is not \"base64\" or \"numbers\"")),
+        };
+    }
+    Ok(how)
 }
 
 /// A document error from the binding.

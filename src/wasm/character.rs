@@ -314,15 +314,18 @@ impl JsCharacter {
     /// into the atlas, `simulation`, `parts`, `glue` (its discs and their rows),
     /// `drawOrder` and `atlas` (`{ url?, width, height }`). `options.atlasUrl` (a string):
     /// where you saved the atlas (`character.atlas`), relative to the document or a `data:`
-    /// URL; without it `atlas` has no `url`. Add `pins` (with `parts`), `puppet` and a
-    /// `track` or `poses` and `weights` (and a `drawOrderTrack`), and `Player.load` plays
-    /// it. Throws `bad-type` or `bad-option` for other options.
+    /// URL; without it `atlas` has no `url`. Version 4, written as `player.toJSON` writes
+    /// (`options.arrays`: `"numbers"` for plain arrays; `options.precision`). Add `pins`
+    /// (with `parts`), `puppet` and a `track` or `poses` and `weights` (and a
+    /// `drawOrderTrack`), and `Player.load` plays it. Throws `bad-type` or `bad-option` for
+    /// other options.
     #[wasm_bindgen(js_name = toDocument, unchecked_return_type = "PuppetDocument")]
     pub fn to_document(
         &self,
-        #[wasm_bindgen(unchecked_optional_param_type = "{ atlasUrl?: string }")] options: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "{ atlasUrl?: string } & DocumentWriteOptions")] options: JsValue,
     ) -> Result<JsValue, Thrown> {
-        let fields = Fields::open(&options, &["atlasUrl"])?;
+        let fields = Fields::open(&options, &["atlasUrl", "precision", "arrays"])?;
+        let how = super::animation::write_options(&fields)?;
         let url = match fields.get("atlasUrl")? {
             Some(v) => Some(v.as_string().ok_or_else(|| bad_type("options.atlasUrl", "a string", &v))?),
             None => None,
@@ -331,7 +334,7 @@ impl JsCharacter {
         if let Some(atlas) = document.atlas.as_mut() {
             atlas.url = url;
         }
-        js_sys::JSON::parse(&document.to_json()).map_err(|_| busy("the document"))
+        js_sys::JSON::parse(&document.to_json_with(how)).map_err(|_| busy("the document"))
     }
 
     /// A `Blender` of the character's poses (`puppet.positions`), with `Blender.register`'s

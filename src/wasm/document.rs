@@ -25,28 +25,29 @@ export interface TrackOptions {
   unwrap?: boolean;
 }
 
-/** A `Track` as JSON data (`track.toJSON()`, `Track.fromJSON`, a document's `track`). */
-export interface TrackJSON {
+/** A `Track` as JSON data (`track.toJSON()`, `Track.fromJSON`, a document's `track`; in a
+ *  version-4 document its arrays may be encoded, `A`). */
+export interface TrackJSON<A extends DocumentArray = number[]> {
   /** The number of pins. */
   pins: number;
   /** One kind per pin. Default: every pin `"position"`. */
   kinds?: PinKind[];
   /** Seconds, strictly increasing. */
-  times: number[];
+  times: A;
   /** Per sample, per pin, `x, y`: `2 · pins · times.length` numbers. */
-  targets: number[];
+  targets: A;
   /** Per sample, per pin, `angle, scale` (radians counter-clockwise, unwrapped; scale 1 at rest).
    *  Default: every pin `0, 1`. */
-  rotations?: number[];
+  rotations?: A;
 }
 
 /** The poses' weights over time (a document's `weights`). */
-export interface WeightsJSON {
+export interface WeightsJSON<A extends DocumentArray = number[]> {
   /** Seconds, strictly increasing. */
-  times: number[];
+  times: A;
   /** Per sample, one weight per pose: `poses.length · times.length` numbers (any reals: outside
    *  [0, 1] extrapolates; the rest shape weighs 1 − Σ weights). */
-  values: number[];
+  values: A;
 }
 
 /** `T` with its literal types widened (`"track"` to `string`, `[x, y]` to `number[]`), as
@@ -59,28 +60,51 @@ export type Widened<T> = T extends string ? string : T extends number ? number :
 /** A puppet document as data, its literal types widened (see `Widened`). */
 export type PuppetDocumentLike = Widened<PuppetDocument>;
 
-/** A puppet document, version 1, 2 or 3: every field is described in docs/puppet-document.md. */
-export interface PuppetDocument {
+/** A typed array of a version-4 document, stored compactly: the little-endian bytes of its values
+ *  in `dtype`, as base64 (standard alphabet, padded). Numbers are `"f64"` or `"f32"`, indices
+ *  `"u8"`, `"u16"` or `"u32"` (docs/puppet-document.md, "Version 4"). */
+export interface EncodedArray {
+  dtype: "f64" | "f32" | "u8" | "u16" | "u32";
+  base64: string;
+}
+
+/** A typed array of a document: plain numbers (every version), or encoded (version 4). */
+export type DocumentArray = number[] | EncodedArray;
+
+/** Options of `player.toJSON(options)`. */
+export interface DocumentWriteOptions {
+  /** `"float64"` (the default): every number as loaded, bit for bit. `"float32"`: the poses'
+   *  positions and the track's targets rounded to 32-bit floats (what a GPU draws; about a quarter smaller). */
+  precision?: "float64" | "float32";
+  /** `"base64"` (the default): typed arrays encoded (`EncodedArray`). `"numbers"`: plain arrays. */
+  arrays?: "base64" | "numbers";
+}
+
+/** A puppet document, version 1, 2, 3 or 4: every field is described in docs/puppet-document.md.
+ *  `A` is the type of its typed arrays: `PuppetDocument<number[]>` is one written with
+ *  `toJSON({ arrays: "numbers" })` (or by hand), whose arrays can be read as numbers. */
+export interface PuppetDocument<A extends DocumentArray = DocumentArray> {
   format: "bunraku-puppet";
-  /** 3 for a document with `tick`, `parameters`, `grids`, `channels` or `dynamics`; 2 for one with
-   *  a `simulation` mesh; earlier documents keep loading. */
-  version: 1 | 2 | 3;
+  /** 4 for a document with encoded arrays (what `toJSON` writes); 3 for one with `tick`,
+   *  `parameters`, `grids`, `channels` or `dynamics`; 2 for one with a `simulation` mesh; earlier
+   *  documents keep loading. */
+  version: 1 | 2 | 3 | 4;
   /** The picture the `uvs` refer to: a URL relative to the document, or a `data:` URL. */
   picture?: { url: string; width?: number; height?: number };
   /** How the mesh was made (a record; playback never meshes). */
   meshing?: { from?: string; spacing?: number; minAngle?: number; maxVertices?: number;
               alphaThreshold?: number; margin?: number; simplify?: number; minArea?: number };
   /** The rest mesh, flat: `[x0, y0, …]`, `[a0, b0, c0, …]`, `[u0, v0, …]`. */
-  mesh: { vertices: number[]; triangles: number[]; uvs?: number[] };
+  mesh: { vertices: A; triangles: A; uvs?: A };
   /** Version 2: the simulation mesh the mesh is nested in (`mesh.simulation`, flat): every method
    *  solves on it and `poses` are its positions. */
-  simulation?: { vertices: number[]; triangles: number[]; parent: number[]; weights: number[] };
+  simulation?: { vertices: A; triangles: A; parent: A; weights: A };
   /** The method and `Puppet.register`'s options that pin tracks play with. */
   puppet?: { method?: Method; weights?: EdgeWeights; handleWeight?: number; iterations?: number;
              preserveArea?: boolean; termWeights?: TermWeights; maxSolves?: number; regularization?: number };
   /** The pins the track drives: rest-space points, kinds, radii, and on a layered character
    *  each pin's part (an index into `parts`). */
-  pins?: { points: number[]; kinds?: PinKind[]; radius?: number[]; parts?: number[] };
+  pins?: { points: A; kinds?: PinKind[]; radius?: A; parts?: A };
   /** Starch regions (pin tracks). */
   starch?: { at: [number, number]; amount: number; extent: number }[];
   /** Overlap regions: `player.triangleDepth`. */
@@ -88,11 +112,11 @@ export interface PuppetDocument {
   /** `Blender.register`'s options (weight tracks). */
   blend?: { iterations?: number };
   /** Poses of the mesh, one position per vertex each, with `Blender.addPose`'s options. */
-  poses?: { positions: number[]; nearAngle?: number; nearPose?: number; flipped?: FlippedTriangles }[];
+  poses?: { positions: A; nearAngle?: number; nearPose?: number; flipped?: FlippedTriangles }[];
   /** The pins' recorded motion. */
-  track?: TrackJSON;
+  track?: TrackJSON<A>;
   /** The poses' weights over time. */
-  weights?: WeightsJSON;
+  weights?: WeightsJSON<A>;
   /** A layered character's parts (`character.toDocument()`), in the mesh's order. */
   parts?: { name: string; group?: string; rect: [number, number, number, number];
             vertices: [number, number]; triangles: [number, number];
@@ -102,7 +126,7 @@ export interface PuppetDocument {
   atlas?: { url?: string; width: number; height: number };
   /** A layered character's glue: its discs (parts by index) and the rows they resolved to. */
   glue?: { discs: { upper: number; lower: number; at: [number, number]; radius: number | null; weight: number }[];
-           rows: { terms: number[]; vertices: number[]; coefficients: number[]; upper: number[]; weights: number[] } };
+           rows: { terms: A; vertices: A; coefficients: A; upper: A; weights: A } };
   /** The parts' draw order: part indices, bottom first. */
   drawOrder?: number[];
   /** A keyed draw order (step interpolation): from `times[k]` on, the parts are drawn in `orders[k]`. */

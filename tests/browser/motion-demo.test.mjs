@@ -16,6 +16,14 @@ import { drag, openDemo, setDensity, settled, startDemo } from "./_harness.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
+/** A document the demo saved (version 4, its arrays encoded), read with plain number arrays. */
+function saved(text) {
+  const player = Player.load(text);
+  const doc = player.toJSON({ arrays: "numbers" });
+  player.free();
+  return doc;
+}
+
 const TIMEOUT = 120_000;
 let demo;
 
@@ -263,7 +271,7 @@ test("the swing tool: a swung pin trails where its roots carry it, then settles 
   assert.deepEqual(errors, []);
 });
 
-test("a document saves the parameters, keyforms, channels and a parameter swing as version 3, plays its channels, and opens again with all of them", { timeout: TIMEOUT }, async (t) => {
+test("a document saves the parameters, keyforms, channels and a parameter swing (version 4: version 3's fields, arrays encoded), plays its channels, and opens again with all of them", { timeout: TIMEOUT }, async (t) => {
   const { page, errors } = await withWave(t);
   // A second parameter, "ear", keyed at 1 with the hand raised further, swung by wave.
   await addParameter(page, "ear");
@@ -287,9 +295,9 @@ test("a document saves the parameters, keyforms, channels and a parameter swing 
   await settled(page);
 
   const text = await motion(page, "saveDocument");
-  const doc = JSON.parse(text);
+  const doc = saved(text);
   const vertices = (await restMesh(page)).vertices.length;
-  assert.equal(doc.version, 3);
+  assert.equal(doc.version, 4);
   assert.equal(doc.tick, 120);
   assert.equal(doc.play, "channels");
   assert.equal(doc.duration, 2, "the timeline's length");
@@ -322,14 +330,14 @@ test("a document saves the parameters, keyforms, channels and a parameter swing 
   await motion(page, "seek", 0.5);
   assert.equal((await motion(page, "values")).wave, Easing.parse("ease-in-out").at(0.5));
   // Saved again, the same document.
-  assert.deepEqual(JSON.parse(await motion(page, "saveDocument")), { ...doc, loop: false });
+  assert.deepEqual(saved(await motion(page, "saveDocument")), { ...doc, loop: false });
   // Removing "ear" removes its swing; wave keeps its channel.
   await page.locator('#parameter-list li[data-parameter="ear"] button[data-remove]').click();
   await settled(page);
   assert.deepEqual((await motion(page, "parameters")).map((p) => p.id), ["wave"]);
   assert.deepEqual(await motion(page, "swings"), []);
   assert.equal(await page.locator("#swing-list li").count(), 0);
-  const again = JSON.parse(await motion(page, "saveDocument"));
+  const again = saved(await motion(page, "saveDocument"));
   assert.equal(again.dynamics, undefined);
   assert.deepEqual(again.channels, doc.channels);
   assert.deepEqual(errors, []);
@@ -416,8 +424,8 @@ test("documents without channels: parameters alone, and a pin swing with a recor
   await page.locator("#set-corrective").click();
   await settled(page);
   const corrected = await positions(page);
-  let doc = JSON.parse(await motion(page, "saveDocument"));
-  assert.equal(doc.version, 3);
+  let doc = saved(await motion(page, "saveDocument"));
+  assert.equal(doc.version, 4);
   assert.equal(doc.channels, undefined);
   assert.equal(doc.play, undefined);
   assert.deepEqual(doc.grids.map((g) => ({ ...g, keyforms: g.keyforms.map((k) => k.at) })), [{ parameters: ["wave", "lift"], keyforms: [[1, 1]] }]);
@@ -434,7 +442,7 @@ test("documents without channels: parameters alone, and a pin swing with a recor
   await page.mouse.click(head.x, head.y);
   await page.locator("#swing-pin").click();
   await settled(page);
-  doc = JSON.parse(await motion(page, "saveDocument"));
+  doc = saved(await motion(page, "saveDocument"));
   assert.equal(doc.dynamics, undefined);
   assert.match((await message(page)).text, /not saved: the pin swings/);
   // Recorded, the drag plays its track with the spring on pin 0.
@@ -444,7 +452,7 @@ test("documents without channels: parameters alone, and a pin swing with a recor
   await page.locator("#record").click();
   await settled(page);
   const text = await motion(page, "saveDocument");
-  doc = JSON.parse(text);
+  doc = saved(text);
   assert.equal(doc.play, "track");
   assert.deepEqual(doc.dynamics, [{ kind: "pins", pin: 0, root: [1, 2, 3], frequency: 1.2, damping: 0.12, inertia: 1, gravity: [0, 0], mix: 1 }]);
   const player = Player.load(text);

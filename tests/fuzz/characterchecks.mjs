@@ -183,7 +183,7 @@ export function characterDocument(c, doc, lib) {
   try {
     // Loaded once (Player.load's own entry loads the documents it saves again).
     player = lib.Player.load(doc);
-    const again = diffData(doc, player.toJSON(), "");
+    const again = diffData(doc, player.toJSON({ arrays: "numbers" }), "");
     return again ? `toDocument, loaded and saved: ${again}` : null;
   } catch (e) {
     return `toDocument's document does not load: ${e?.code ?? "no code"}: ${e?.message ?? e}`;

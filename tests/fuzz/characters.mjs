@@ -148,7 +148,7 @@ export function addCharacters(add, lib) {
   const trackDoc = { ...c1.obj.toDocument({ atlasUrl: "atlas.png" }), pins: { points, kinds: track.kinds, parts: [0, 0, 1] }, puppet: { method: "two-step" },
     track: track.toJSON(), drawOrderTrack: { times: [0, 0.5], orders: [[0, 1, 2], [1, 0, 2]] }, loop: true };
   track.free();
-  const d3 = c3.obj.toDocument({ atlasUrl: "atlas.png" });
+  const d3 = c3.obj.toDocument({ atlasUrl: "atlas.png", arrays: "numbers" });
   const rest = d3.simulation?.vertices ?? d3.mesh.vertices;
   const weightDoc = { ...d3, poses: [{ positions: turned(rest, -0.2, 0.9) }], weights: { times: [0, 1], values: [0, 1] },
     drawOrderTrack: { times: [0.25], orders: [[1, 0]] } };

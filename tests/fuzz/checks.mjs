@@ -187,7 +187,9 @@ export function dataRoundTrip(saved, given, reload) {
   let again;
   try {
     const o = reload();
-    again = o.toJSON();
+    // A player writes version 4 with its arrays encoded: read back as plain numbers (a
+    // track and a key track take no options).
+    again = o.toJSON({ arrays: "numbers" });
     o.free();
   } catch (e) {
     return `saved data does not load again: ${e?.code ?? "no code"}: ${e?.message ?? e}`;
@@ -196,10 +198,31 @@ export function dataRoundTrip(saved, given, reload) {
   return d2 ? `saved, loaded and saved again: ${d2}` : null;
 }
 
+const DTYPES = { f64: Float64Array, f32: Float32Array, u8: Uint8Array, u16: Uint16Array, u32: Uint32Array };
+
+/** `data` with every encoded array of a version-4 document (`{ dtype, base64 }`) as plain numbers. */
+function decoded(data) {
+  if (Array.isArray(data)) return data.map(decoded);
+  if (!data || typeof data !== "object" || isHostile(data)) return data;
+  const keys = Object.keys(data);
+  if (keys.length === 2 && Object.hasOwn(DTYPES, data.dtype) && typeof data.base64 === "string") {
+    const bytes = Uint8Array.from(Buffer.from(data.base64, "base64"));
+    const T = DTYPES[data.dtype];
+    if (bytes.length % T.BYTES_PER_ELEMENT === 0) return Array.from(new T(bytes.buffer));
+  }
+  return Object.fromEntries(keys.map((k) => [k, decoded(data[k])]));
+}
+
 /** A document loaded: saved as given (`dataRoundTrip`), its overlap depths finite, no
  *  option of another method among its puppet options. */
 export function loaded(player, doc, reload) {
-  const d = dataRoundTrip(player.toJSON(), doc, reload);
+  // toJSON writes version 4 (issue 26 §8), uvs as the 32-bit floats the player reads; as
+  // plain numbers it is otherwise the document given (its encoded arrays decoded).
+  const saved = player.toJSON({ arrays: "numbers" });
+  const given = decoded(parsed(doc));
+  const plain = given && typeof given === "object" && !isHostile(given) && !Array.isArray(given);
+  const uvs = plain && Array.isArray(given.mesh?.uvs) ? { mesh: { ...given.mesh, uvs: given.mesh.uvs.map((u) => (typeof u === "number" ? Math.fround(u) : u)) } } : {};
+  const d = dataRoundTrip(saved, plain ? { ...given, version: saved.version, ...uvs } : doc, reload);
   if (d) return d;
   const data = parsed(doc);
   const p = data?.puppet;

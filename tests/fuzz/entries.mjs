@@ -385,7 +385,7 @@ export function entries(lib) {
     { name: "Character.drawOrder", on: "character", mutates: true, params: [{ type: "array", of: PART(partsOf) }], valid: (g, t, item) => [drawOrderOf(g, item)],
       call: (t, a) => { t.drawOrder = a[0]; }, describeCall: (label, args) => `(${label}).drawOrder = ${args.length ? describe(args[0]) : "undefined"}${args.length > 1 ? ` (and ${args.length - 1} more)` : ""}`,
       after: (t, [order]) => CC.orderStored(t, order) },
-    { name: "Character.toDocument", on: "character", weight: 0.5, params: [], valid: () => [], call: (t) => t.toDocument(), after: (t, _, { result }) => CC.characterDocument(t, result, lib) },
+    { name: "Character.toDocument", on: "character", weight: 0.5, params: [], valid: () => [], call: (t) => t.toDocument({ arrays: "numbers" }), after: (t, _, { result }) => CC.characterDocument(t, result, lib) },
     getter("character", ["atlas", "drawOrder", "glue", "parts", "triangles", "uvs", "vertices", "warnings"]),
     free("character"),
 

@@ -383,7 +383,7 @@ code("bad-document", () => {
 });
 
 code("bad-version", () => {
-  throws(() => Player.load({ ...stillDocument(), version: 4 }), "bad-version", { field: "version", value: 4 }, /^puppet document: version: 4 is not a version this library reads \(it reads versions 1, 2 and 3\)$/);
+  throws(() => Player.load({ ...stillDocument(), version: 5 }), "bad-version", { field: "version", value: 5 }, /^puppet document: version: 5 is not a version this library reads \(it reads versions 1, 2, 3 and 4\)$/);
 });
 
 code("freed", () => {

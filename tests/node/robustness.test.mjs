@@ -233,7 +233,7 @@ test("numbers in documents are numbers: no coercion, no NaN saved as null", () =
   const good = Track.fromJSON(recordedTrack());
   assert.deepEqual(good.toJSON(), recordedTrack());
   const player = Player.load(JSON.stringify(stillDocument()));
-  assert.deepEqual(player.toJSON(), stillDocument());
+  assert.deepEqual(player.toJSON({ arrays: "numbers" }), { ...stillDocument(), version: 4 });
 });
 
 test("a document's lengths and counts are checked before the data is read", () => {

@@ -71,7 +71,7 @@ export function motionDocument(character: Character): PuppetDocument | null {
   const poses = [turned(v, headParts, neck[0], neck[1], -25), turned(v, headParts, neck[0], neck[1], 25), ...swing];
   return {
     ...character.toDocument(),
-    version: 3,
+    version: 4,
     poses: poses.map((positions) => ({ positions })),
     parameters: [
       { id: "headTurn", min: -1, max: 1, default: 0, keys: [-1, 0, 1], keyforms: [{ pose: 0 }, { pose: null }, { pose: 1 }] },

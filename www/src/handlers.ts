@@ -198,8 +198,18 @@ export const handlers: Handlers = {
     const rig = held.get(generation);
     if (!rig) return { dropped: `generation ${generation} is gone` };
     const { document: base, note } = rig.document ? { document: { ...rig.document, picture: rig.document.picture ?? picture, loop }, note: null } : documentOf(rig, picture, loop);
-    // Through JSON: plain arrays and objects only, as a file holds them.
-    return { result: { document: JSON.parse(JSON.stringify(base)) as DocumentData, note }, transfer: [] };
+    // Saved as the player writes it: version 4, its typed arrays encoded (lossless, a
+    // third to half the size of plain numbers), plain data as a file holds it.
+    let player: Player | null = null;
+    try {
+      player = Player.load(base);
+      return { result: { document: player.toJSON() as unknown as DocumentData, note }, transfer: [] };
+    } catch {
+      // A document the player refuses is saved as it is (opening it says what is wrong).
+      return { result: { document: JSON.parse(JSON.stringify(base)) as DocumentData, note }, transfer: [] };
+    } finally {
+      player?.free();
+    }
   },
 
   loadDocument,

@@ -52,13 +52,13 @@ export function onRendered(simulation: SimulationMesh, positions: ArrayLike<numb
 }
 
 /** A document's simulation mesh (flat arrays) as typed arrays. */
-export function simulationOf(document: PuppetDocument): SimulationMesh | null {
+export function simulationOf(document: PuppetDocument<number[]>): SimulationMesh | null {
   const s = document.simulation;
   if (!s) return null;
   return { vertices: Float64Array.from(s.vertices), triangles: Uint32Array.from(s.triangles), parent: Uint32Array.from(s.parent), weights: Float64Array.from(s.weights) };
 }
 
 /** A simulation mesh as a document stores it. */
-export function flatSimulation(s: SimulationMesh): NonNullable<PuppetDocument["simulation"]> {
+export function flatSimulation(s: SimulationMesh): NonNullable<PuppetDocument<number[]>["simulation"]> {
   return { vertices: Array.from(s.vertices), triangles: Array.from(s.triangles), parent: Array.from(s.parent), weights: Array.from(s.weights) };
 }

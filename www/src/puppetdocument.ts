@@ -12,12 +12,12 @@ import { build } from "./registering.js";
 
 /** The generation as a puppet document (docs/puppet-document.md), and what of its motion
  *  a document cannot hold (a sentence), or null. */
-export function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): { document: PuppetDocument; note: string | null } {
+export function documentOf(rig: Held, picture: { url: string; width: number; height: number } | null, loop: boolean): { document: PuppetDocument<number[]>; note: string | null } {
   const puppet = rig.puppet;
   // Version 2 with the simulation mesh, its poses on it (where every simulation vertex is
   // a rendered one); else version 1, the rendered mesh alone.
   const nested = rig.simulation && rig.corners ? { simulation: rig.simulation, corners: rig.corners } : null;
-  const document: PuppetDocument = {
+  const document: PuppetDocument<number[]> = {
     format: "bunraku-puppet",
     version: nested ? 2 : 1,
     ...(picture ? { picture: { url: picture.url, width: picture.width, height: picture.height } } : {}),
@@ -53,7 +53,8 @@ export function loadDocument(body: LoadDocumentBody): Outcome<LoadDocumentResult
   const t0 = performance.now();
   let player = Player.load(body.text); // validates the whole document
   try {
-    const doc = player.toJSON();
+    // Version 4 with plain number arrays: the fields below are read as numbers.
+    const doc = player.toJSON({ arrays: "numbers" }) as PuppetDocument<number[]>;
     if (doc.loop) {
       // The page loops; the player never wraps (see `play`).
       player.free();

@@ -86,14 +86,19 @@ pub struct GlueDiscJson {
 #[serde(deny_unknown_fields)]
 pub struct GlueRowsJson {
     /// Each row's number of terms, 2 to 6.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub terms: Vec<u32>,
     /// The terms' vertices.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub vertices: Vec<u32>,
     /// The terms' coefficients.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub coefficients: Vec<f64>,
     /// Each row's number of upper-side terms, 1 to 3.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub upper: Vec<u32>,
     /// Each row's weight, > 0.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub weights: Vec<f64>,
 }
 

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::arrays::{self, Writing};
 use crate::character::{AtlasJson, DrawOrderTrackJson, GlueJson, PartJson};
 use crate::motion::{ChannelJson, DynamicJson, GridJson, ParameterJson, MAX_MOTION_ITEMS};
 use crate::read::{from_text, header, MAX_POSES};
@@ -12,10 +13,11 @@ use crate::{fault, fault_at, quoted, DocumentFault, Result};
 /// The `format` of every puppet document.
 pub const FORMAT: &str = "bunraku-puppet";
 
-/// The newest `version` this library reads: 3, which adds `tick`, `parameters`, `grids`,
-/// `channels` and `dynamics` (2 added `simulation`). Earlier documents keep loading (and
-/// are written back as they were read).
-pub const VERSION: u32 = 3;
+/// The newest `version` this library reads and the one it writes: 4, whose typed arrays may
+/// be encoded (`{ dtype, base64 }`, [`crate::arrays`]); 3 added `tick`, `parameters`,
+/// `grids`, `channels` and `dynamics`, 2 `simulation`. Earlier documents keep loading and
+/// play the same; they are written as version 4.
+pub const VERSION: u32 = 4;
 
 /// The oldest `version` this library reads.
 pub const MIN_VERSION: u32 = 1;
@@ -30,8 +32,9 @@ pub const MIN_VERSION: u32 = 1;
 pub struct Document {
     /// Always [`FORMAT`], `"bunraku-puppet"`.
     pub format: String,
-    /// [`MIN_VERSION`] to [`VERSION`]: 1, 2 (which may hold `simulation`) or 3 (which may
-    /// hold `tick`, `parameters`, `grids`, `channels` and `dynamics`).
+    /// [`MIN_VERSION`] to [`VERSION`]: 1, 2 (which may hold `simulation`), 3 (which may
+    /// hold `tick`, `parameters`, `grids`, `channels` and `dynamics`) or 4 (whose typed
+    /// arrays may be encoded).
     pub version: u32,
     /// The picture the mesh's `uvs` refer to.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -183,11 +186,14 @@ pub struct MeshingJson {
 #[serde(deny_unknown_fields)]
 pub struct MeshJson {
     /// `[x0, y0, x1, y1, …]`.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub vertices: Vec<f64>,
     /// `[a0, b0, c0, …]`, vertex indices.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub triangles: Vec<u32>,
     /// `[u0, v0, …]`, one pair per vertex (default: normalised by the bounding box).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::arrays::floats_opt", serialize_with = "crate::arrays::write_uvs")]
     pub uvs: Option<Vec<f64>>,
 }
 
@@ -198,12 +204,16 @@ pub struct MeshJson {
 #[serde(deny_unknown_fields)]
 pub struct SimulationJson {
     /// `[x0, y0, …]`, the simulation mesh's rest vertices.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub vertices: Vec<f64>,
     /// `[a0, b0, c0, …]`, its triangles.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub triangles: Vec<u32>,
     /// One simulation triangle per vertex of `mesh`.
+    #[serde(deserialize_with = "crate::arrays::indices", serialize_with = "crate::arrays::write_indices")]
     pub parent: Vec<u32>,
     /// Three barycentric weights per vertex of `mesh`.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub weights: Vec<f64>,
 }
 
@@ -260,16 +270,19 @@ pub struct TermWeightsJson {
 #[serde(deny_unknown_fields)]
 pub struct PinsJson {
     /// `[x0, y0, …]`, rest-space points on the shape.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub points: Vec<f64>,
     /// One kind per pin; default the track's kinds, else `"position"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kinds: Option<Vec<String>>,
     /// One radius per pin, rest units, ≥ 0; default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::arrays::floats_opt", serialize_with = "crate::arrays::write_opt")]
     pub radius: Option<Vec<f64>>,
     /// A layered character's pins: the part of each pin (its point is located on that
     /// part's triangles only, since parts overlap).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::arrays::indices_opt", serialize_with = "crate::arrays::write_indices_opt")]
     pub parts: Option<Vec<u32>>,
 }
 
@@ -312,6 +325,7 @@ pub struct BlendJson {
 #[serde(deny_unknown_fields)]
 pub struct PoseJson {
     /// `[x0, y0, …]`, one point per vertex.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write_positions")]
     pub positions: Vec<f64>,
     /// Radians: count turns nearest this angle.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -334,12 +348,15 @@ pub struct TrackJson {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kinds: Option<Vec<String>>,
     /// Seconds, strictly increasing.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub times: Vec<f64>,
     /// Per sample, per pin, `[x, y]`: `2 · pins · times.length` numbers.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write_positions")]
     pub targets: Vec<f64>,
     /// Per sample, per pin, `[angle, scale]` (radians, counter-clockwise, unwrapped; the
     /// scale 1 at rest); default every pin `[0, 1]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::arrays::floats_opt", serialize_with = "crate::arrays::write_opt")]
     pub rotations: Option<Vec<f64>>,
 }
 
@@ -348,14 +365,16 @@ pub struct TrackJson {
 #[serde(deny_unknown_fields)]
 pub struct WeightsJson {
     /// Seconds, strictly increasing.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub times: Vec<f64>,
     /// Per sample, one weight per pose: `poses.length · times.length` numbers.
+    #[serde(deserialize_with = "crate::arrays::floats", serialize_with = "crate::arrays::write")]
     pub values: Vec<f64>,
 }
 
 /// Checks a document's header: `format` is [`FORMAT`] and `version` is [`VERSION`]
 /// (`None`: the field is missing). Errors: [`DocumentError`](crate::DocumentError), with
-/// [`DocumentFault::Version`] for a number other than 1, 2 or 3.
+/// [`DocumentFault::Version`] for a number other than 1, 2, 3 or 4.
 pub fn check_header(format: Option<&str>, version: Option<f64>) -> Result<()> {
     match format {
         Some(FORMAT) => {}
@@ -374,7 +393,7 @@ pub fn check_header(format: Option<&str>, version: Option<f64>) -> Result<()> {
             DocumentFault::Version,
             "version".into(),
             v,
-            "is not a version this library reads (it reads versions 1, 2 and 3)",
+            "is not a version this library reads (it reads versions 1, 2, 3 and 4)",
         )),
         None => Err(fault(DocumentFault::Structure, "version".into(), "is missing or not a number".into())),
     }
@@ -388,13 +407,24 @@ impl Document {
     pub fn from_json(text: &str) -> Result<Document> {
         let (format, version) = header(text)?;
         check_header(format.as_deref(), version)?;
-        from_text(text, "")
+        // Encoded arrays are version 4's: an earlier reader would reject them.
+        let encoded = version.is_some_and(|v| v >= 4.0);
+        arrays::reading(encoded, || from_text(text, ""))
     }
 
-    /// The document as JSON text, every number in its shortest round-trip form.
+    /// The document as version-4 JSON text, its typed arrays encoded losslessly
+    /// ([`crate::arrays`]), every other number in its shortest round-trip form.
     pub fn to_json(&self) -> String {
+        self.to_json_with(Writing::default())
+    }
+
+    /// The document as version-4 JSON text, its typed arrays written as `how` says: encoded
+    /// or as numbers, positions exact or rounded to 32-bit floats. Reading it back and
+    /// writing it again the same way gives the same text.
+    pub fn to_json_with(&self, how: Writing) -> String {
+        let newest = Document { version: self.version.max(VERSION), ..self.clone() };
         // Plain data: serialising cannot fail.
-        serde_json::to_string(self).unwrap_or_default()
+        arrays::writing(how, || serde_json::to_string(&newest).unwrap_or_default())
     }
 }
 

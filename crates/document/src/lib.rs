@@ -9,12 +9,14 @@
 //! everything here from `bunraku::animation` and turns a [`DocumentError`] into its
 //! `Error::BadDocument`.
 
+pub mod arrays;
 mod character;
 mod document;
 mod keys;
 mod motion;
 pub mod read;
 
+pub use arrays::{Writing, MAX_ENCODED_BYTES};
 pub use character::{AtlasJson, DrawOrderTrackJson, GlueDiscJson, GlueJson, GlueRowsJson, PartJson};
 pub use document::{
     check_header, BlendJson, Document, MeshJson, MeshingJson, OverlapJson, PictureJson, PinsJson, PoseJson,
