@@ -3,7 +3,7 @@
 // hand), from a wasm module built without the authoring entry points (meshing, `Puppet`,
 // `Blender`, `Dynamics`, `Character`, `Renderer`, `flatten`: cargo's `authoring` feature
 // off, scripts/build-wasm.sh), guarded as the full build is (js/guard.ts). A page that only
-// plays documents loads 38 % fewer bytes (BENCHMARKS.md, "The playback build").
+// plays documents loads 36 % fewer bytes (BENCHMARKS.md, "The playback build").
 
 import * as glue from "../pkg-player/bunraku.js";
 import type { InitInput, InitOutput, SyncInitInput } from "../pkg-player/bunraku.js";
