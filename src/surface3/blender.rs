@@ -354,3 +354,71 @@ impl SurfaceBlender {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// A square tube along z, 4 × `rings` quads on its sides, open at both ends.
+    fn tube(rings: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let corners = [[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]];
+        let mut v = Vec::new();
+        for i in 0..=rings {
+            for j in 0..8 {
+                let (a, b) = (corners[j / 2], corners[(j / 2 + 1) % 4]);
+                let f = (j % 2) as f64 * 0.5;
+                v.push([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), 3.0 * i as f64 / rings as f64]);
+            }
+        }
+        let id = |i: usize, j: usize| (i * 8 + j % 8) as u32;
+        let mut t = Vec::new();
+        for i in 0..rings {
+            for j in 0..8 {
+                t.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+                t.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+            }
+        }
+        (v, t)
+    }
+
+    /// `E_S` ([K] eq. 5) of the blender's current positions: `Σ_t W_t ‖S(Â_t) − S(C_t)‖²`,
+    /// with each ghost at its `E_T` optimum.
+    fn shape_energy(b: &SurfaceBlender) -> f64 {
+        let mut e = 0.0;
+        for (t, &tri) in b.surface.triangles().iter().enumerate() {
+            let (c, s) = &b.blended[t];
+            let map = b.stitch.map_with_ghost(t, tri, &b.positions, c);
+            let (_, sa) = polar(&map).unwrap();
+            let d: f64 = (0..9).map(|k| (sa[k / 3][k % 3] - s[k / 3][k % 3]).powi(2)).sum();
+            e += b.stitch.areas[t] * d;
+        }
+        e
+    }
+
+    #[test]
+    fn shape_iterations_lower_the_rotation_invariant_energy() {
+        let (rest, tris) = tube(24);
+        let twisted: Vec<[f64; 3]> = rest
+            .iter()
+            .map(|p| {
+                let (s, c) = (1.5 * PI * p[2] / 3.0).sin_cos();
+                [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]]
+            })
+            .collect();
+        let mut energies = Vec::new();
+        for iterations in [0, 1, 3, 10] {
+            let options = SurfaceOptions { stitch: Stitch::Shape { iterations }, ..Default::default() };
+            let mut b = SurfaceBlender::register(rest.clone(), tris.clone(), options).unwrap();
+            if iterations == 0 {
+                // Keep the blended maps for the measure.
+                b.blended = vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); tris.len()];
+            }
+            b.add_pose(&twisted).unwrap();
+            b.blend(&[0.5]).unwrap();
+            energies.push(shape_energy(&b));
+        }
+        assert!(energies.windows(2).all(|w| w[1] < w[0]), "{energies:?}");
+        assert!(energies[3] < 0.5 * energies[0], "{energies:?}");
+    }
+}
