@@ -1,12 +1,20 @@
 //! Kaji's 3D blending of surface poses (issue 27, `bunraku::surface3`): exact rest and
 //! one-hot poses, the eliminated stitching matrix against the cotangent formula, `log^c`
-//! past 180°, volume kept where a linear blend collapses, welded seams, and every error.
+//! past 180°, volume kept where a linear blend collapses, welded seams, no allocation in a
+//! blend (a counting global allocator), and every error.
+
+#[path = "common/counting.rs"]
+mod counting;
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
 use bunraku::surface3::{Stitch, SurfaceBlender, SurfaceOptions, SurfacePoseOptions, Tetrisation};
 use bunraku::Error;
+use counting::allocations;
+
+#[global_allocator]
+static GLOBAL: counting::Counting = counting::Counting;
 
 /// A capped cylinder along z: `rings + 1` rings of `segments` vertices (radius `r`, z from 0
 /// to `length`), and a centre vertex on each cap; triangles outward. With `seam`, the
@@ -370,4 +378,25 @@ fn bad_input_is_refused_and_leaves_the_blender_as_it_was() {
     assert!(matches!(b.remove_pose(1).unwrap_err(), Error::BadPose { index: 1, pose_count: 1 }));
     assert_eq!(b.pose_count(), 1);
     assert_eq!(b.blend(&[0.7]).unwrap(), before);
+}
+
+#[test]
+fn blends_allocate_nothing() {
+    let (rest, tris) = cylinder(0.25, 3.0, 10, 12, true);
+    for options in modes() {
+        let mut b = SurfaceBlender::register(rest.clone(), tris.clone(), options).unwrap();
+        b.add_pose(&bend(&rest, 3.0, 0.5 * PI)).unwrap();
+        b.add_pose(&twist(&rest, |z| z)).unwrap();
+        let mut out = vec![[0.0; 3]; rest.len()];
+        let mut flat = vec![0f32; 3 * rest.len()];
+        let (count, ()) = allocations(|| {
+            for w in [[0.3, 0.4], [1.0, 0.0], [0.0, 0.0], [-0.5, 1.5]] {
+                b.blend_into(&w, &mut out).unwrap();
+                b.blend_into_f32(&w, &mut flat).unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{options:?}");
+        // The counter counts: a blend that returns a new array allocates.
+        assert!(allocations(|| b.blend(&[0.5, 0.5]).unwrap()).0 > 0);
+    }
 }

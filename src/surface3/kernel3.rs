@@ -228,7 +228,7 @@ pub fn exp_sym(l: &Sym) -> Mat3 {
     if norm == 0.0 {
         return IDENTITY;
     }
-    let a = full(&l.map(|x| x * scale));
+    let a = l.map(|x| x * scale);
     // The lowest degree whose next term, ‖a‖^(d+1)/(d+1)!, is below 10⁻¹⁷ (at most 12).
     let x = norm * scale;
     let (mut degree, mut term) = (1, x * x / 2.0);
@@ -236,20 +236,48 @@ pub fn exp_sym(l: &Sym) -> Mat3 {
         degree += 1;
         term *= x / (degree + 1) as f64;
     }
-    // Horner: I + a(I + a/2(I + a/3(…))).
-    let mut e = IDENTITY;
+    // Horner, I + a(I + a/2(I + a/3(…))), on the six entries: every factor is a polynomial
+    // in `a`, so the products commute and stay symmetric.
+    const INVERSE: [f64; 13] = [
+        0.0,
+        1.0,
+        1.0 / 2.0,
+        1.0 / 3.0,
+        1.0 / 4.0,
+        1.0 / 5.0,
+        1.0 / 6.0,
+        1.0 / 7.0,
+        1.0 / 8.0,
+        1.0 / 9.0,
+        1.0 / 10.0,
+        1.0 / 11.0,
+        1.0 / 12.0,
+    ];
+    let mut e: Sym = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
     for d in (1..=degree).rev() {
-        let m = mul(&a, &e);
-        for i in 0..3 {
-            for j in 0..3 {
-                e[i][j] = if i == j { 1.0 } else { 0.0 } + m[i][j] / d as f64;
-            }
-        }
+        let m = sym_mul(&a, &e);
+        let r = INVERSE[d];
+        e = [1.0 + r * m[0], 1.0 + r * m[1], 1.0 + r * m[2], r * m[3], r * m[4], r * m[5]];
     }
     for _ in 0..k {
-        e = mul(&e, &e);
+        e = sym_mul(&e, &e);
     }
-    e
+    full(&e)
+}
+
+/// `a b` for commuting symmetric `a`, `b` (the product is then symmetric).
+#[inline(always)]
+fn sym_mul(a: &Sym, b: &Sym) -> Sym {
+    let [a11, a22, a33, a12, a13, a23] = *a;
+    let [b11, b22, b33, b12, b13, b23] = *b;
+    [
+        a11 * b11 + a12 * b12 + a13 * b13,
+        a12 * b12 + a22 * b22 + a23 * b23,
+        a13 * b13 + a23 * b23 + a33 * b33,
+        a11 * b12 + a12 * b22 + a13 * b23,
+        a11 * b13 + a12 * b23 + a13 * b33,
+        a12 * b13 + a22 * b23 + a23 * b33,
+    ]
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 //! | `tetrise` | [`Tetrisation`]: the face ghost, each tetrahedron's map from rest | §4.1, eq. 1–2 |
 //! | `kernel3` | polar decomposition, rotation log/exp (Rodrigues), symmetric log/exp | §5, eq. 3 |
 //! | `unwrap3` | the continuous logarithm `log^c` over the triangle adjacency, from an anchor | §5 |
-//! | `stitch3` | `E_T` with the ghosts eliminated (the cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
+//! | `stitch3` | `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
 //! | `blender` | [`SurfaceBlender`] | §3 |
 //!
 //! A blend with weights `w_k` takes, for every triangle's face tetrahedron, `C_t =
