@@ -9,14 +9,14 @@ use super::unwrap3::unwrap;
 use crate::blend::{MAX_ITERATIONS, MAX_REFERENCE_ANGLE, MAX_WEIGHT};
 use crate::error::{Error, Result};
 
-/// How the blended tetrahedron maps are stitched into vertex positions ([K] §6).
+/// How the blended tetrahedron maps are stitched into vertex positions (\[K\] §6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Stitch {
-    /// `E_T` ([K] eq. 4): one back-substitution per blend.
+    /// `E_T` (\[K\] eq. 4): one back-substitution per blend.
     #[default]
     Rigid,
-    /// `E_S` ([K] eq. 5), rotation-invariant: `iterations` (at most
-    /// [`MAX_ITERATIONS`]) of [K] §6's steps 2–3 after the `E_T` solve, one more
+    /// `E_S` (\[K\] eq. 5), rotation-invariant: `iterations` (at most
+    /// [`MAX_ITERATIONS`]) of \[K\] §6's steps 2–3 after the `E_T` solve, one more
     /// back-substitution each (a fixed count, not "until convergence", so that a blend's
     /// cost is known).
     Shape {
@@ -172,7 +172,7 @@ impl SurfaceBlender {
 
     /// Adds a pose, one position per caller vertex (seam duplicates take their welded
     /// vertex's first position), and returns its index. Every triangle's tetrahedron map
-    /// ([K] eq. 2, with the pose's own ghost) is polar-decomposed, its rotation's
+    /// (\[K\] eq. 2, with the pose's own ghost) is polar-decomposed, its rotation's
     /// logarithm unwrapped (`log^c`) and its stretch's logarithm stored. No factorisation.
     ///
     /// Errors, which leave the blender as it was: [`Error::CountMismatch`] (not one
@@ -255,7 +255,7 @@ impl SurfaceBlender {
 
     /// Blends the poses with `weights` (one per pose, any reals within ±[`MAX_WEIGHT`];
     /// the rest weighs `1 − Σ w`) into `out`, one position per caller vertex (seam
-    /// duplicates get the same position). Blend_C ([K] eq. 3) per tetrahedron, one `E_T`
+    /// duplicates get the same position). Blend_C (\[K\] eq. 3) per tetrahedron, one `E_T`
     /// back-substitution with x, y and z together, each component moved to its blended
     /// centroid `c₀ + Σ_k w_k (c_k − c₀)`, then the `E_S` iterations if any. Zero weights
     /// give the rest, one-hot weights the pose (to round-off). Allocates and factorises
@@ -382,7 +382,7 @@ mod tests {
         (v, t)
     }
 
-    /// `E_S` ([K] eq. 5) of the blender's current positions: `Σ_t W_t ‖S(Â_t) − S(C_t)‖²`,
+    /// `E_S` (\[K\] eq. 5) of the blender's current positions: `Σ_t W_t ‖S(Â_t) − S(C_t)‖²`,
     /// with each ghost at its `E_T` optimum.
     fn shape_energy(b: &SurfaceBlender) -> f64 {
         let mut e = 0.0;

@@ -1,4 +1,4 @@
-//! The 3×3 algebra of Kaji's Blend_C in 3D ([K] §5, eq. 3): the polar decomposition
+//! The 3×3 algebra of Kaji's Blend_C in 3D (\[K\] §5, eq. 3): the polar decomposition
 //! `A = R S` of a tetrahedron's map, the axis–angle logarithm and Rodrigues' exponential
 //! of rotations, and the logarithm and exponential of symmetric positive definite
 //! stretches.
@@ -7,7 +7,7 @@
 //! `X ← (γX + X⁻ᵀ/γ)/2` (accurate to round-off for any `det A > 0`), not by an SVD; the
 //! stretch's logarithm by a Jacobi eigen-decomposition (once per pose); the exponential of
 //! a blended log-stretch by scaling and squaring of its Taylor series (per blend, no
-//! eigen-decomposition; [K] suggests closed-form eigenvalues or Kaji and Ochiai's formula).
+//! eigen-decomposition; \[K\] suggests closed-form eigenvalues or Kaji and Ochiai's formula).
 
 /// A 3×3 matrix, row-major.
 pub type Mat3 = [[f64; 3]; 3];

@@ -198,17 +198,23 @@ impl Surface3 {
 
 /// Welds positions within `tolerance` of each other (transitively): each vertex's welded
 /// index, numbered in order of first appearance, and each welded vertex's first vertex.
+/// A sweep along the longest axis: O(n log n) plus the pairs whose coordinates on that axis
+/// lie within the tolerance.
 fn weld(vertices: &[[f64; 3]], tolerance: f64) -> (Vec<u32>, Vec<u32>) {
     let n = vertices.len();
+    // Swept along the bounding box's longest axis, so that a surface lying in a plane
+    // square to an axis does not put every vertex within the tolerance of that axis.
+    let (lo, hi) = crate::geometry::bounds(vertices.iter().copied());
+    let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b]))).unwrap_or(0);
     let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_unstable_by(|&a, &b| vertices[a as usize][0].total_cmp(&vertices[b as usize][0]));
+    order.sort_unstable_by(|&a, &b| vertices[a as usize][axis].total_cmp(&vertices[b as usize][axis]));
     let mut sets = UnionFind::new(n);
     let tol2 = tolerance * tolerance;
     for (k, &a) in order.iter().enumerate() {
         let p = vertices[a as usize];
         for &b in &order[k + 1..] {
             let q = vertices[b as usize];
-            if q[0] - p[0] > tolerance {
+            if q[axis] - p[axis] > tolerance {
                 break;
             }
             let d = sub(p, q);

@@ -1,5 +1,5 @@
 //! Blending poses of 3D triangle surfaces as rigidly as possible: S. Kaji, "Tetrisation of
-//! triangular meshes and its application in shape blending", arXiv:1601.04816 ([K]), §3–§6,
+//! triangular meshes and its application in shape blending", arXiv:1601.04816 (\[K\]), §3–§6,
 //! in 3D (issue 27; research note `surfaces.md`). The 2D counterpart is [`crate::blend`].
 //!
 //! ```text
@@ -26,7 +26,7 @@
 //! Where this departs from the paper, and why:
 //! * **Ghosts eliminated** (`surfaces.md` §1.6): each face ghost lies in one tetrahedron,
 //!   so it is eliminated exactly; the stitching matrix is the cotangent stiffness matrix and
-//!   a blend is one back-substitution with three right-hand sides. [K] solves with the
+//!   a blend is one back-substitution with three right-hand sides. \[K\] solves with the
 //!   ghosts as unknowns, for the same result.
 //! * **`E_T` weighted by rest area** (Remark 6.1's weights; Kaji's code defaults to 1), so
 //!   that the result does not depend on how finely the surface is meshed.
@@ -36,7 +36,7 @@
 //!   default, or the caller's [`SurfaceOptions::anchor`] and
 //!   [`SurfacePoseOptions::reference`]).
 //! * **Welding** of vertices split along uv or normal seams ([`mesh3::WELD_TOLERANCE`]).
-//! * **Edge and vertex tetrisations** ([K] §4.2–4.3) are not built yet.
+//! * **Edge and vertex tetrisations** (\[K\] §4.2–4.3) are not built yet.
 
 mod blender;
 mod kernel3;

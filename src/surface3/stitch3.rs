@@ -1,9 +1,9 @@
-//! Stitching the blended tetrahedron maps back into vertex positions ([K] §6, eq. 4–5) in
+//! Stitching the blended tetrahedron maps back into vertex positions (\[K\] §6, eq. 4–5) in
 //! face mode, with the ghost vertices eliminated exactly (research note `surfaces.md` §1.6).
 //!
 //! * **Elimination.** A tetrahedron `(a, b, c, g)`'s map is `Â = X′ Bᵀ`, with `B`'s rows
 //!   `B_b, B_c, B_g` the rows of the rest frame's inverse and `B_a = −B_b − B_c − B_g`
-//!   ([K] eq. 2). `E_T = Σ_t W_t ‖Â_t − C_t‖²_F`; each face ghost lies in one tetrahedron
+//!   (\[K\] eq. 2). `E_T = Σ_t W_t ‖Â_t − C_t‖²_F`; each face ghost lies in one tetrahedron
 //!   only, so its block is diagonal and the Schur complement is taken tetrahedron by
 //!   tetrahedron: the vertex rows become `h_v = B_v − B_g (B_g·B_v)/|B_g|²` (the part
 //!   orthogonal to the normal), the reduced matrix `K_uv = Σ_t W_t h_u·h_v` and the reduced

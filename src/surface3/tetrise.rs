@@ -1,7 +1,7 @@
-//! Tetrisation ([K] §4): the ghost vertex that turns a surface triangle into a
-//! tetrahedron, and the tetrahedron's map from rest ([K] eq. 1–2, linear part).
+//! Tetrisation (\[K\] §4): the ghost vertex that turns a surface triangle into a
+//! tetrahedron, and the tetrahedron's map from rest (\[K\] eq. 1–2, linear part).
 //!
-//! Face tetrisation ([K] §4.1): one ghost per triangle `(a, b, c)`, at
+//! Face tetrisation (\[K\] §4.1): one ghost per triangle `(a, b, c)`, at
 //! `g = (a + b + c)/3 + n/√|n|` with `n = (b − a)×(c − a)`: the unit normal times `√(2A)`
 //! (printed correctly in the transcription; research note `surfaces.md` §1.7 item 3).
 //! Every pose gets its own ghosts by the same formula (§1.7 item 5), so a ghost follows
@@ -10,18 +10,18 @@
 use super::kernel3::{inverse, mul, Mat3};
 use crate::geometry::space::{cross, norm, sub};
 
-/// How the surface's triangles become tetrahedra ([K] §4).
+/// How the surface's triangles become tetrahedra (\[K\] §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Tetrisation {
-    /// One ghost per triangle, above its centroid ([K] §4.1): the default, and the one
+    /// One ghost per triangle, above its centroid (\[K\] §4.1): the default, and the one
     /// whose ghosts are eliminated exactly (the stitching matrix is the surface's
     /// cotangent stiffness matrix).
     #[default]
     Face,
-    /// One ghost per interior edge ([K] §4.2). Not built yet: refused with
+    /// One ghost per interior edge (\[K\] §4.2). Not built yet: refused with
     /// [`crate::Error::BadOption`].
     Edge,
-    /// One ghost per vertex of two or more triangles ([K] §4.3). Not built yet: refused
+    /// One ghost per vertex of two or more triangles (\[K\] §4.3). Not built yet: refused
     /// with [`crate::Error::BadOption`].
     Vertex,
 }

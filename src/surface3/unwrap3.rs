@@ -1,4 +1,4 @@
-//! The continuous logarithm `log^c` of the tetrahedra's rotations ([K] §5; research note
+//! The continuous logarithm `log^c` of the tetrahedra's rotations (\[K\] §5; research note
 //! `surfaces.md` §1.4 item 3): each rotation's axis–angle vector `ω` has the branches
 //! `â (θ + 2πk)`; walking the triangles breadth-first across shared edges, each takes the
 //! branch nearest its parent's, so that a twist of 270° reads 3π/2 at its far end, not −π/2.
@@ -7,7 +7,7 @@
 //! branch is the one nearest a reference vector (the rest, `0`, by default). The start is
 //! the caller's anchor triangle for its piece, and otherwise the piece's least-rotated
 //! triangle (smallest principal angle, the lower index on ties): the part of the surface
-//! that moved least stays nearest the rest. A departure: [K]'s code walks from
+//! that moved least stays nearest the rest. A departure: \[K\]'s code walks from
 //! tetrahedron 0; the 2D blender takes an area-weighted median angle, which has no direct
 //! analogue for axis–angle vectors. A pose whose rotation is the same at both ends of a
 //! 360° twist is ambiguous without an anchor (`surfaces.md` §1.4).
