@@ -54,6 +54,7 @@ pub mod simulation;
 mod solver;
 mod sort;
 pub mod surface;
+pub mod surface3;
 mod topology;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
