@@ -42,8 +42,8 @@ mod weights;
 pub use bunraku_document::{
     AtlasJson, BlendJson, Document, DrawOrderTrackJson, EaseJson, GlueDiscJson, GlueJson, GlueRowsJson,
     KeyJson, MeshJson, MeshingJson, OverlapJson, PartJson, PictureJson, PinsJson, PoseJson, PuppetJson,
-    SimulationJson, StarchJson, TermWeightsJson, TrackJson, ValueJson, WeightsJson, Writing, FORMAT, MAX_KEYS,
-    MAX_POSES, MIN_VERSION, VERSION,
+    SimulationJson, StarchJson, TermWeightsJson, TrackJson, ValueJson, WeightsJson, Writing, FORMAT,
+    MAX_KEYS, MAX_POSES, MIN_VERSION, VERSION,
 };
 pub use keys::{Interp, Key, KeyTrack, KeyTrackOptions, ValueSpace, MAX_DIMS, MAX_TIME};
 pub use player::{Mode, Player, INJECTIVE_ROUNDS, INJECTIVE_SOLVES};

@@ -322,7 +322,8 @@ impl JsCharacter {
     #[wasm_bindgen(js_name = toDocument, unchecked_return_type = "PuppetDocument")]
     pub fn to_document(
         &self,
-        #[wasm_bindgen(unchecked_optional_param_type = "{ atlasUrl?: string } & DocumentWriteOptions")] options: JsValue,
+        #[wasm_bindgen(unchecked_optional_param_type = "{ atlasUrl?: string } & DocumentWriteOptions")]
+        options: JsValue,
     ) -> Result<JsValue, Thrown> {
         let fields = Fields::open(&options, &["atlasUrl", "precision", "arrays"])?;
         let how = super::animation::write_options(&fields)?;

@@ -166,7 +166,11 @@ fn decode<T: Item>(dtype: &str, text: &str) -> Result<Vec<T>, String> {
         return Err(format!("holds {bytes} bytes, more than {MAX_ENCODED_BYTES}"));
     }
     if bytes % dtype.size() != 0 {
-        return Err(format!("holds {bytes} bytes, not a whole number of {} ({} bytes each)", dtype.name(), dtype.size()));
+        return Err(format!(
+            "holds {bytes} bytes, not a whole number of {} ({} bytes each)",
+            dtype.name(),
+            dtype.size()
+        ));
     }
     let raw = STANDARD.decode(text).map_err(|e| format!("is not base64 ({e})"))?;
     let n = raw.len() / dtype.size();
@@ -188,7 +192,9 @@ fn decode<T: Item>(dtype: &str, text: &str) -> Result<Vec<T>, String> {
 }
 
 /// Reads a number array or an encoded array of `T`.
-fn read<'de, D: Deserializer<'de>, T: Item + de::Deserialize<'de>>(deserializer: D) -> Result<Vec<T>, D::Error> {
+fn read<'de, D: Deserializer<'de>, T: Item + de::Deserialize<'de>>(
+    deserializer: D,
+) -> Result<Vec<T>, D::Error> {
     struct Either<T>(std::marker::PhantomData<T>);
 
     impl<'de, T: Item + de::Deserialize<'de>> Visitor<'de> for Either<T> {

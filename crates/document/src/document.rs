@@ -282,7 +282,10 @@ pub struct PinsJson {
     /// A layered character's pins: the part of each pin (its point is located on that
     /// part's triangles only, since parts overlap).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[serde(deserialize_with = "crate::arrays::indices_opt", serialize_with = "crate::arrays::write_indices_opt")]
+    #[serde(
+        deserialize_with = "crate::arrays::indices_opt",
+        serialize_with = "crate::arrays::write_indices_opt"
+    )]
     pub parts: Option<Vec<u32>>,
 }
 

@@ -13,7 +13,8 @@ const MESH: &str = r#"{"vertices":[0,0,100,0,100,100,0.1,100.30000000000001],"tr
 
 /// `n` numbers as a solver writes them (17 significant digits), as a JSON array.
 fn solved(n: usize, scale: f64) -> String {
-    let values: Vec<String> = (0..n).map(|k| format!("{}", scale * (1.0 + (k as f64 * 0.7).sin() / 3.0))).collect();
+    let values: Vec<String> =
+        (0..n).map(|k| format!("{}", scale * (1.0 + (k as f64 * 0.7).sin() / 3.0))).collect();
     format!("[{}]", values.join(","))
 }
 
@@ -39,13 +40,18 @@ fn earlier_versions_write_as_version_4_with_the_same_values() {
         let old = Document::from_json(&document(version, MESH, &extra)).unwrap();
         let text = old.to_json();
         assert!(text.contains(r#""version":4"#), "{text}");
-        assert!(text.contains(r#""positions":{"dtype":"f64","base64":"#), "long decimals are encoded: {text}");
+        assert!(
+            text.contains(r#""positions":{"dtype":"f64","base64":"#),
+            "long decimals are encoded: {text}"
+        );
         assert!(text.contains(r#""points":[10.0,10.0,90.0,90.0]"#), "short arrays stay numbers: {text}");
         let new = Document::from_json(&text).unwrap();
         assert_eq!(new.version, 4);
         // Every value the same, bit for bit (uvs as the 32-bit floats the player reads).
-        assert_eq!(new.mesh.vertices.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-                   old.mesh.vertices.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+        assert_eq!(
+            new.mesh.vertices.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            old.mesh.vertices.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+        );
         assert_eq!(new.mesh.triangles, old.mesh.triangles);
         let uvs32 = |d: &Document| d.mesh.uvs.as_ref().unwrap().iter().map(|&x| x as f32).collect::<Vec<_>>();
         assert_eq!(uvs32(&new), uvs32(&old));
@@ -62,8 +68,12 @@ fn earlier_versions_write_as_version_4_with_the_same_values() {
 fn dtypes_are_the_narrowest_that_hold_the_values() {
     let halves: Vec<String> = (0..64).map(|k| format!("{}", k as f64 / 3.0 + 1000.0)).collect();
     let thirds = format!("[{}]", halves.join(","));
-    let narrow: Vec<String> = (0..64).map(|k| format!("{}", ((k as f64 / 3.0 + 1000.0) as f32) as f64)).collect();
-    let extra = format!(r#","poses":[{{"positions":{thirds}}},{{"positions":[{}]}},{{"positions":[0,0.5,100]}}]"#, narrow.join(","));
+    let narrow: Vec<String> =
+        (0..64).map(|k| format!("{}", ((k as f64 / 3.0 + 1000.0) as f32) as f64)).collect();
+    let extra = format!(
+        r#","poses":[{{"positions":{thirds}}},{{"positions":[{}]}},{{"positions":[0,0.5,100]}}]"#,
+        narrow.join(",")
+    );
     let d = Document::from_json(&document(1, MESH, &extra)).unwrap();
     let v: serde_json::Value = serde_json::from_str(&d.to_json()).unwrap();
     assert_eq!(v["mesh"]["triangles"]["dtype"], "u8");
@@ -74,17 +84,24 @@ fn dtypes_are_the_narrowest_that_hold_the_values() {
     // 256 needs two bytes.
     let big: Vec<String> = (0..300).map(|k| format!("{k},0")).collect();
     let tri: Vec<String> = (2..300).map(|k| format!("0,{},{k}", k - 1)).collect();
-    let text = document(1, &format!(r#"{{"vertices":[{}],"triangles":[{}]}}"#, big.join(","), tri.join(",")), "");
+    let text =
+        document(1, &format!(r#"{{"vertices":[{}],"triangles":[{}]}}"#, big.join(","), tri.join(",")), "");
     let v: serde_json::Value = serde_json::from_str(&Document::from_json(&text).unwrap().to_json()).unwrap();
     assert_eq!(v["mesh"]["triangles"]["dtype"], "u16");
 }
 
 #[test]
 fn every_dtype_reads() {
-    let f32s: Vec<u8> = [0f32, 0., 100., 0., 100., 100., 0., 100.].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let f32s: Vec<u8> =
+        [0f32, 0., 100., 0., 100., 100., 0., 100.].iter().flat_map(|x| x.to_le_bytes()).collect();
     let u16s: Vec<u8> = [0u16, 1, 2, 0, 2, 3].iter().flat_map(|x| x.to_le_bytes()).collect();
     let u32s: Vec<u8> = [0u32, 1, 2, 0, 2, 3].iter().flat_map(|x| x.to_le_bytes()).collect();
-    for triangles in [encoded("u8", &[0, 1, 2, 0, 2, 3]), encoded("u16", &u16s), encoded("u32", &u32s), "[0,1,2,0,2,3]".into()] {
+    for triangles in [
+        encoded("u8", &[0, 1, 2, 0, 2, 3]),
+        encoded("u16", &u16s),
+        encoded("u32", &u32s),
+        "[0,1,2,0,2,3]".into(),
+    ] {
         let mesh = format!(r#"{{"vertices":{},"triangles":{triangles}}}"#, encoded("f32", &f32s));
         let d = Document::from_json(&document(4, &mesh, "")).unwrap();
         assert_eq!(d.mesh.triangles, vec![0, 1, 2, 0, 2, 3]);
@@ -119,7 +136,13 @@ fn float32_rounds_positions_only_and_round_trips() {
 
 #[test]
 fn malformed_encoded_arrays_name_their_field() {
-    let pose = |positions: &str| document(4, MESH, &format!(r#","poses":[{{"positions":[0,0,100,0,100,100,0,100]}},{{"positions":{positions}}}]"#));
+    let pose = |positions: &str| {
+        document(
+            4,
+            MESH,
+            &format!(r#","poses":[{{"positions":[0,0,100,0,100,100,0,100]}},{{"positions":{positions}}}]"#),
+        )
+    };
     let cases: Vec<(String, &str)> = vec![
         (pose(r#"{"dtype":"f32","base64":"AAAA*AAAAAAAAAAA"}"#), "is not base64"),
         (pose(r#"{"dtype":"f64","base64":"AAA"}"#), "not a multiple of 4"),
@@ -140,12 +163,20 @@ fn malformed_encoded_arrays_name_their_field() {
         assert!(e.field == "poses[1].positions" || e.field == "poses[1].positions.dtype", "{e:?}");
         assert!(e.reason.contains(reason), "{reason}: {}", e.reason);
     }
-    let e = error(&document(4, &format!(r#"{{"vertices":[0,0,1,0,0,1],"triangles":{}}}"#, encoded("f32", &[0; 12])), ""));
+    let e = error(&document(
+        4,
+        &format!(r#"{{"vertices":[0,0,1,0,0,1],"triangles":{}}}"#, encoded("f32", &[0; 12])),
+        "",
+    ));
     assert_eq!(e.field, "mesh.triangles");
     assert!(e.reason.contains("expected \"u8\", \"u16\" or \"u32\""), "{}", e.reason);
     // An encoded array before version 4 is refused.
     for version in 1..=3 {
-        let e = error(&document(version, &format!(r#"{{"vertices":{},"triangles":[]}}"#, encoded("f64", &[0; 16])), ""));
+        let e = error(&document(
+            version,
+            &format!(r#"{{"vertices":{},"triangles":[]}}"#, encoded("f64", &[0; 16])),
+            "",
+        ));
         assert_eq!(e.field, "mesh.vertices");
         assert!(e.reason.contains("needs version 4"), "{}", e.reason);
     }
