@@ -148,7 +148,7 @@ async function run() {
       await context.route(`${origin}/**`, (route) => {
         const path = new URL(route.request().url()).pathname;
         const reply = (contentType, body) => route.fulfill({ contentType, body, headers });
-        if (/^\/(index|worker)\.js$|^\/worker\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
+        if (/^\/(index|guard|worker)\.js$|^\/worker\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
         if (path === "/pkg/bunraku.js") return reply("text/javascript", readFileSync(`${ROOT}pkg/bunraku.js`, "utf8"));
         if (path === "/pkg/bunraku_bg.wasm") return reply("application/wasm", readFileSync(`${ROOT}pkg/bunraku_bg.wasm`));
         return reply("text/html", HTML);

@@ -26,7 +26,7 @@ const SIZE = 768;
 
 const blankPage = blankPages({
   origin: "http://bunraku-gather.test",
-  modules: ["gl", "index", "three", "pixi"],
+  modules: ["gl", "index", "guard", "three", "pixi"],
   pkg: true,
   scripts: {
     "/three/three.module.js": three("three.module.js"),

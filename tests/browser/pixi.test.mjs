@@ -57,7 +57,7 @@ async function open() {
     const path = new URL(route.request().url()).pathname;
     const js = (body) => route.fulfill({ contentType: "text/javascript", body });
     if (path === "/pixi.mjs") return js(readFileSync(PIXI, "utf8"));
-    if (/^\/(index|pixi)\.js$|^\/gl\/\w+\.js$/.test(path)) return js(readFileSync(`${GL_DIST}${path}`, "utf8"));
+    if (/^\/(index|guard|pixi)\.js$|^\/gl\/\w+\.js$/.test(path)) return js(readFileSync(`${GL_DIST}${path}`, "utf8"));
     if (path === "/pkg/bunraku.js") return js(readFileSync(`${ROOT}pkg/bunraku.js`, "utf8"));
     if (path === "/pkg/bunraku_bg.wasm") return route.fulfill({ contentType: "application/wasm", body: readFileSync(`${ROOT}pkg/bunraku_bg.wasm`) });
     if (path.startsWith("/assets/")) return route.fulfill({ body: readFileSync(`${ROOT}${path.slice(1)}`) });

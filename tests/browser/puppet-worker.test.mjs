@@ -68,7 +68,7 @@ async function inPage({ origin, isolated }, check) {
     await context.route(`${origin}/**`, (route) => {
       const path = new URL(route.request().url()).pathname;
       const reply = (contentType, body) => route.fulfill({ contentType, body, headers });
-      if (/^\/(index|worker|three|pixi)\.js$|^\/(worker|gl)\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
+      if (/^\/(index|guard|worker|three|pixi)\.js$|^\/(worker|gl)\/\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${GL_DIST}${path}`, "utf8"));
       if (/^\/three\/three\.\w+\.js$/.test(path)) return reply("text/javascript", readFileSync(`${ROOT}node_modules/three/build/${path.slice(7)}`, "utf8"));
       if (path === "/pixi.mjs") return reply("text/javascript", readFileSync(`${ROOT}node_modules/pixi.js/dist/pixi.min.mjs`, "utf8"));
       if (path === "/pkg/bunraku.js") return reply("text/javascript", readFileSync(`${ROOT}pkg/bunraku.js`, "utf8"));

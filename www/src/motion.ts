@@ -16,6 +16,8 @@ const SETTLE_OFFSET = 0.02;
 const SETTLE_SECONDS = 0.5;
 /** A gap in the updates longer than this (s) starts the springs again at rest. */
 const CLOCK_GAP = 1;
+/** A frame at 60 Hz (s). */
+const FRAME = 1 / 60;
 
 /** A held puppet's motion: parameters (with copies of their keyforms, for documents and to
  *  make the rig again), correctives, channels and swings. */
@@ -34,6 +36,10 @@ export interface MotionHeld {
   dynamics: Dynamics | null;
   swungTargets: Float64Array;
   swungRotations: Float64Array;
+  /** The last update's targets and rotations (where the springs start at rest after a
+   *  pause). */
+  lastTargets: Float64Array;
+  lastRotations: Float64Array;
   /** When the springs' offset last changed by SETTLE_OFFSET, that offset, and the last
    *  update's time (page clock, s). */
   settle: { since: number; lag: number; last: number };
@@ -52,6 +58,8 @@ export function motionOf(rig: Held): MotionHeld {
     dynamics: null,
     swungTargets: new Float64Array(0),
     swungRotations: new Float64Array(0),
+    lastTargets: new Float64Array(0),
+    lastRotations: new Float64Array(0),
     settle: { since: -Infinity, lag: 0, last: -Infinity },
   };
   return rig.motion;
@@ -170,6 +178,8 @@ export function setMotion(held: Held, channels: readonly ChannelData[], swings: 
   const n = held.pins.kinds.length;
   if (motion.swungTargets.length !== 2 * n) motion.swungTargets = new Float64Array(2 * n);
   if (motion.swungRotations.length !== 2 * n) motion.swungRotations = new Float64Array(2 * n);
+  if (motion.lastTargets.length !== 2 * n) motion.lastTargets = new Float64Array(2 * n);
+  if (motion.lastRotations.length !== 2 * n) motion.lastRotations = new Float64Array(2 * n);
   motion.settle = { since: -Infinity, lag: 0, last: -Infinity };
   motion.channels = channels.map(copyChannel);
   motion.swings = swings.map((s) => ({ ...s }) as Swing);
@@ -208,10 +218,19 @@ export function swing(held: Held, time: number | undefined, targets: Float64Arra
   const dynamics = motion?.dynamics;
   if (!motion || !dynamics || time === undefined || dynamics.pinCount * 2 !== targets.length) return null;
   const s = motion.settle;
-  // After a pause (or a clock that went back), the springs start again at rest.
-  if (time - s.last > CLOCK_GAP || time < s.last) dynamics.reset();
+  // After a pause (or a clock that went back), the springs start again at rest where the
+  // pins were at the last update, a frame ago: the first move after the pause then swings
+  // them as any move of a drag does (at rest where it put them would hide it).
+  if (time - s.last > CLOCK_GAP || time < s.last) {
+    dynamics.reset();
+    if (Number.isFinite(s.last)) {
+      dynamics.targetsInto(Math.max(0, time - FRAME), motion.lastTargets, motion.lastRotations, motion.swungTargets, motion.swungRotations);
+    }
+  }
   s.last = time;
   dynamics.targetsInto(time, targets, rotations, motion.swungTargets, motion.swungRotations);
+  motion.lastTargets.set(targets);
+  motion.lastRotations.set(rotations);
   const lag = dynamics.lag;
   if (Math.abs(lag - s.lag) > SETTLE_OFFSET) {
     s.lag = lag;
