@@ -61,6 +61,8 @@ mod stitch;
 mod store;
 mod unwrap;
 
+pub(crate) use stitch::pinned_factor;
+
 pub use unwrap::Reference;
 
 use crate::error::{Error, Result};

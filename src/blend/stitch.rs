@@ -120,16 +120,7 @@ impl Stitch {
                 pins.push(vertex);
             }
         }
-        let (symbolic, mut values) = symbolic_from(n, triplets, None)?;
-        for &p in &pins {
-            let k = symbolic
-                .pattern()
-                .slot(p, p)
-                .ok_or_else(|| Error::Factorization("the diagonal is not in the pattern".into()))?;
-            values[k] *= 2.0;
-        }
-        let factor = Factor::new(&symbolic, &values)?;
-        let work = Workspace::new(&symbolic);
+        let (symbolic, factor, work) = pinned_factor(n, triplets, &pins)?;
         Ok(Stitch { triangles, gradients, areas, mass, component, component_mass, symbolic, factor, work })
     }
 
@@ -229,6 +220,28 @@ impl Stitch {
 pub(crate) fn add(p: &mut Pair, u: [f64; 2], s: f64) {
     p.0[0] += s * u[0];
     p.0[1] += s * u[1];
+}
+
+/// Factorises the `n × n` stitching matrix of `triplets` with the diagonal of each vertex of
+/// `pins` doubled: one vertex per connected component, which fixes the component's
+/// translation (the blend's energy alone leaves it free). Shared by the 2D stitching and the
+/// 3D one ([`crate::surface3`]).
+pub(crate) fn pinned_factor<R: Copy + Default>(
+    n: usize,
+    triplets: Vec<(u32, u32, f64)>,
+    pins: &[usize],
+) -> Result<(Symbolic, Factor<f64>, Workspace<R>)> {
+    let (symbolic, mut values) = symbolic_from(n, triplets, None)?;
+    for &p in pins {
+        let k = symbolic
+            .pattern()
+            .slot(p, p)
+            .ok_or_else(|| Error::Factorization("the diagonal is not in the pattern".into()))?;
+        values[k] *= 2.0;
+    }
+    let factor = Factor::new(&symbolic, &values)?;
+    let work = Workspace::new(&symbolic);
+    Ok((symbolic, factor, work))
 }
 
 #[cfg(test)]

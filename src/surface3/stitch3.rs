@@ -23,7 +23,7 @@ use std::ops::{AddAssign, Div, Mul, SubAssign};
 use super::kernel3::Mat3;
 use super::mesh3::Surface3;
 use super::tetrise::rest_inverse;
-use crate::deform::system::symbolic_from;
+use crate::blend::pinned_factor;
 use crate::error::{Error, Result};
 use crate::solver::{Factor, Rhs, Symbolic, Workspace};
 
@@ -154,16 +154,7 @@ impl Stitch3 {
             component[vertex] = label[root];
             component_mass[label[root] as usize] += mass[vertex];
         }
-        let (symbolic, mut values) = symbolic_from(n, triplets, None)?;
-        for &p in &pins {
-            let k = symbolic
-                .pattern()
-                .slot(p, p)
-                .ok_or_else(|| Error::Factorization("the diagonal is not in the pattern".into()))?;
-            values[k] *= 2.0;
-        }
-        let factor = Factor::new(&symbolic, &values)?;
-        let work = Workspace::new(&symbolic);
+        let (symbolic, factor, work) = pinned_factor(n, triplets, &pins)?;
         Ok(Stitch3 {
             gradients,
             areas,
