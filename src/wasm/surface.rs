@@ -57,7 +57,7 @@ const DEFAULT_SHAPE_ITERATIONS: u32 = 4;
 ///
 /// ```js
 /// const position = geometry.attributes.position;
-/// const blender = SurfaceBlender.register(position.array, geometry.index.array);
+/// const blender = SurfaceBlender.register(position.array, Uint32Array.from(geometry.index.array));
 /// blender.addPose(bentPositions);                         // pose 0
 /// blender.blendInto(new Float64Array([0.5]), position.array);  // no allocation
 /// position.needsUpdate = true;
