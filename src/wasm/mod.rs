@@ -85,7 +85,7 @@ pub use spring::JsParameterSpring;
 #[cfg(feature = "authoring")]
 pub use surface::JsSurfaceBlender;
 
-use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
+use js_sys::{Float32Array, Float64Array, Uint16Array, Uint32Array, Uint8Array, Uint8ClampedArray};
 use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen::{JsCast, JsValue};
 
@@ -145,7 +145,7 @@ macro_rules! typed_arrays {
     )*};
 }
 
-typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint8Array: u8, Uint8ClampedArray: u8);
+typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint16Array: u16, Uint8Array: u8, Uint8ClampedArray: u8);
 
 /// `out` as a `Float64Array` of `expected` numbers, or a `bad-type` or `bad-length` error
 /// (an output buffer: `positionsInto`, `poseInto`, `valueInto`).

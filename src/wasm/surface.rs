@@ -6,7 +6,7 @@
 //! gzipped (the surface core it reaches), which takes that build below issue 26's "at least
 //! 35 % smaller than the full build" (34.4 %, measured). A page uses `bunraku` for it.
 
-use js_sys::{Float32Array, Float64Array, Uint32Array};
+use js_sys::{Float32Array, Float64Array, Uint16Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::errors::{bad_option, bad_type, describe, number, pose_index, wrong_option_type, Thrown};
@@ -57,7 +57,7 @@ const DEFAULT_SHAPE_ITERATIONS: u32 = 4;
 ///
 /// ```js
 /// const position = geometry.attributes.position;
-/// const blender = SurfaceBlender.register(position.array, Uint32Array.from(geometry.index.array));
+/// const blender = SurfaceBlender.register(position.array, geometry.index.array);
 /// blender.addPose(bentPositions);                         // pose 0
 /// blender.blendInto(new Float64Array([0.5]), position.array);  // no allocation
 /// position.needsUpdate = true;
@@ -77,17 +77,22 @@ pub struct JsSurfaceBlender {
 impl JsSurfaceBlender {
     /// Makes a blender for poses of the surface `vertices3` (`[x0, y0, z0, x1, …]`, a
     /// `Float64Array` or a `Float32Array`) and `triangles` (`[a0, b0, c0, …]`, consistently
-    /// oriented): validates and welds the surface, and factorises the stitching matrix (its
+    /// oriented; a `Uint32Array`, or a `Uint16Array` as three.js indexes small meshes): validates and welds the surface, and factorises the stitching matrix (its
     /// cotangent stiffness matrix) once. `options`: `SurfaceBlendOptions`. Throws a
     /// `BunrakuError` naming the offending vertex, triangle, edge or option.
     pub fn register(
         #[wasm_bindgen(unchecked_param_type = "Float64Array | Float32Array")] vertices3: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Uint32Array")] triangles: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint32Array | Uint16Array")] triangles: JsValue,
         #[wasm_bindgen(unchecked_optional_param_type = "SurfaceBlendOptions")] options: JsValue,
     ) -> Result<JsSurfaceBlender, Thrown> {
         let options = surface_options(&options)?;
         let vertices = points3("vertices3", &vertices3)?;
-        let triangles = items::<Uint32Array, 3>("triangles", &triangles)?;
+        let triangles = if triangles.dyn_ref::<Uint16Array>().is_some() {
+            let small = items::<Uint16Array, 3>("triangles", &triangles)?;
+            small.iter().map(|t| t.map(u32::from)).collect()
+        } else {
+            items::<Uint32Array, 3>("triangles", &triangles)?
+        };
         let blender = SurfaceBlender::register(vertices, triangles, options)?;
         let out = vec![[0.0; 3]; blender.surface().caller_vertex_count()];
         Ok(JsSurfaceBlender { blender, weights: Vec::new(), out, staging: Vec::new() })

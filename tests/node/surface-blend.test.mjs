@@ -142,7 +142,8 @@ test("welded seams stay closed in every blend, and match the mesh without duplic
 
 test("a Float32Array output is the Float64Array output rounded once; Float32Array inputs are read", () => {
   const [rest, tris] = cylinder(0.25, 3, 10, 10);
-  const b = SurfaceBlender.register(Float32Array.from(rest), tris);
+  const b = SurfaceBlender.register(Float32Array.from(rest), Uint16Array.from(tris));
+  assert.equal(b.triangleCount, tris.length / 3);
   const f64rest = Float64Array.from(Float32Array.from(rest));
   b.addPose(Float32Array.from(bend(rest, 3, 1)));
   b.addPose(bend(rest, 3, -2));
