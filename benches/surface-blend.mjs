@@ -3,6 +3,7 @@
 // 180° as its two poses. SurfaceBlender.register, addPose, and blendInto of the 2 poses into a
 // Float64Array and into a Float32Array (three.js's position array), with zero weights (the
 // back-substitution and the scatter alone) and with E_S (stitch: "shape", 5 iterations).
+// register is timed twice: the first call also pays V8's tiering of the wasm code.
 // Each blend row is the fastest of several rounds of a median of many calls. Prints a
 // Markdown table, then the issue's targets (register ≤ 300 ms, blendInto of 2 poses ≤ 8 ms)
 // as met or not in this run.
@@ -39,6 +40,8 @@ for (const [label, options] of [
   ["E_S ×5 (shape)", { stitch: "shape", iterations: 5 }],
 ]) {
   let blender;
+  // The first registration also pays V8's tiering of the wasm code: it is timed apart.
+  const cold = ms(() => SurfaceBlender.register(rest, tris, options).free());
   const register = ms(() => (blender = SurfaceBlender.register(rest, tris, options)));
   const add = ms(() => blender.addPose(poses[0]));
   blender.addPose(poses[1]);
@@ -47,17 +50,17 @@ for (const [label, options] of [
   const blend64 = best(() => blender.blendInto(w, out64));
   const blend32 = best(() => blender.blendInto(w, out32));
   const zero = best(() => blender.blendInto(new Float64Array(2), out64));
-  rows.push({ label, n: blender.vertexCount, t: blender.triangleCount, register, add, blend64, blend32, zero });
+  rows.push({ label, n: blender.vertexCount, t: blender.triangleCount, cold, register, add, blend64, blend32, zero });
   blender.free();
 }
-console.log("| stitch | vertices | triangles | register (ms) | addPose (ms) | blendInto, 2 poses, Float64Array (ms) | blendInto, 2 poses, Float32Array (ms) | zero weights (ms) |");
-console.log("|---|---:|---:|---:|---:|---:|---:|---:|");
+console.log("| stitch | vertices | triangles | register, first (ms) | register, again (ms) | addPose (ms) | blendInto, 2 poses, Float64Array (ms) | blendInto, 2 poses, Float32Array (ms) | zero weights (ms) |");
+console.log("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
 const f = (x) => x.toFixed(1);
 for (const r of rows) {
-  console.log(`| ${r.label} | ${r.n} | ${r.t} | ${f(r.register)} | ${f(r.add)} | ${f(r.blend64)} | ${f(r.blend32)} | ${f(r.zero)} |`);
+  console.log(`| ${r.label} | ${r.n} | ${r.t} | ${f(r.cold)} | ${f(r.register)} | ${f(r.add)} | ${f(r.blend64)} | ${f(r.blend32)} | ${f(r.zero)} |`);
 }
 const [rigid] = rows;
 const met = (ok) => (ok ? "met" : "not met");
 console.log("");
-console.log(`register ≤ 300 ms: ${met(rigid.register <= 300)} (${f(rigid.register)} ms)`);
+console.log(`register ≤ 300 ms: ${met(rigid.cold <= 300)} (first ${f(rigid.cold)} ms, again ${f(rigid.register)} ms)`);
 console.log(`blendInto of 2 poses ≤ 8 ms (Float32Array): ${met(rigid.blend32 <= 8)} (${f(rigid.blend32)} ms)`);
