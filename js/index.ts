@@ -11,9 +11,9 @@ export { MAX_NESTING, MAX_PLAIN_VALUES } from "./guard.js";
 
 const state: GlueState = { initialised: false };
 
-guardGlue(state, [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.ParameterSpring, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.Track] as unknown as Class[]);
+guardGlue(state, [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.ParameterSpring, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.SurfaceBlender, glue.Track] as unknown as Class[]);
 
-// Blender, Character, Dynamics, Easing, Mesh, ParameterSpring, Player, Puppet and Rig are the glue's classes, guarded in place (exported by
+// Blender, Character, Dynamics, Easing, Mesh, ParameterSpring, Player, Puppet, Rig and SurfaceBlender are the glue's classes, guarded in place (exported by
 // `export *`). KeyTrack, Renderer and Track are made with `new`, which only a wrapper can guard.
 export const Renderer = guardConstructor(state, glue.Renderer);
 export type Renderer = glue.Renderer;

@@ -4,12 +4,12 @@
 use js_sys::{Float64Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
-use super::errors::{bad_type, pose_number};
+use super::errors::pose_index;
 use super::mesh::JsMesh;
 use super::options::{blend_options, pose_options};
 use super::positions::positions_out;
 use super::simulation::{mesh_embedding, simulation_option};
-use super::{items, typed, Thrown, TypedArray};
+use super::{items, read_weights, typed, Thrown, TypedArray};
 use crate::blend::Blender;
 use crate::simulation::Embedding;
 use crate::{Error, Mesh};
@@ -199,13 +199,8 @@ impl JsBlender {
 
     /// Reads the weights into the blender's own buffer and blends into `self.out`.
     fn solve(&mut self, weights: &JsValue) -> Result<(), Thrown> {
-        let array = typed::<Float64Array>("weights", weights)?;
-        let (got, expected) = (array.len(), self.blender.pose_count());
-        if got != expected {
-            return Err(Error::CountMismatch { what: "weights", got, expected }.into());
-        }
         // One weight per pose (resized as poses come and go).
-        array.copy_to(&mut self.weights);
+        read_weights(weights, &mut self.weights)?;
         match &self.embedding {
             None => Ok(self.blender.blend_into(&self.weights, &mut self.out)?),
             Some((e, _)) => {
@@ -262,10 +257,4 @@ impl JsBlender {
             Some(e) => JsBlender::carried_glued(e, c.glue_rows(), parsed),
         }
     }
-}
-
-/// A pose index from JS: a whole number below `pose_count` ([`pose_number`]); `bad-type`
-/// for a value that is not a number.
-fn pose_index(value: &JsValue, pose_count: usize) -> Result<usize, Thrown> {
-    pose_number(value.as_f64().ok_or_else(|| bad_type("index", "a number", value))?, pose_count)
 }

@@ -304,6 +304,12 @@ pub(crate) fn pose_number(x: f64, pose_count: usize) -> Result<usize, Thrown> {
     }
 }
 
+/// A pose index from JS: a whole number below `pose_count` ([`pose_number`]); `bad-type`
+/// for a value that is not a number.
+pub(crate) fn pose_index(value: &JsValue, pose_count: usize) -> Result<usize, Thrown> {
+    pose_number(value.as_f64().ok_or_else(|| bad_type("index", "a number", value))?, pose_count)
+}
+
 /// A pose index that is not one (negative, fractional, too large), worded as the core's
 /// [`Error::BadPose`]: `pose -1 does not exist (there are 2 poses)`.
 pub(crate) fn bad_pose_index(index: f64, pose_count: usize) -> Thrown {

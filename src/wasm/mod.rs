@@ -9,6 +9,7 @@
 //! | `document` | the TypeScript types of the puppet document (`PuppetDocument`) |
 //! | `keys` | `Easing` (CSS cubic Béziers, exact in f64) and `KeyTrack` (eased keyframes) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
+//! | `surface` | `SurfaceBlender`: poses of one 3D surface blended by weights (authoring) |
 //! | `dynamics` | `Dynamics`: springs on a puppet's secondary pins, on a fixed tick |
 //! | `rig` | `Rig`: named parameters whose values pick keyforms, in one blend |
 //! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
@@ -61,6 +62,8 @@ mod rig;
 mod settle;
 mod simulation;
 mod spring;
+#[cfg(feature = "authoring")]
+mod surface;
 
 pub use animation::{JsPlayer, JsTrack};
 #[cfg(feature = "authoring")]
@@ -79,8 +82,10 @@ pub use puppet::Puppet;
 pub use render::JsRenderer;
 pub use rig::JsRig;
 pub use spring::JsParameterSpring;
+#[cfg(feature = "authoring")]
+pub use surface::JsSurfaceBlender;
 
-use js_sys::{Float32Array, Float64Array, Uint32Array, Uint8Array, Uint8ClampedArray};
+use js_sys::{Float32Array, Float64Array, Uint16Array, Uint32Array, Uint8Array, Uint8ClampedArray};
 use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen::{JsCast, JsValue};
 
@@ -140,7 +145,7 @@ macro_rules! typed_arrays {
     )*};
 }
 
-typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint8Array: u8, Uint8ClampedArray: u8);
+typed_arrays!(Float64Array: f64, Float32Array: f32, Uint32Array: u32, Uint16Array: u16, Uint8Array: u8, Uint8ClampedArray: u8);
 
 /// `out` as a `Float64Array` of `expected` numbers, or a `bad-type` or `bad-length` error
 /// (an output buffer: `positionsInto`, `poseInto`, `valueInto`).
@@ -150,6 +155,19 @@ pub(crate) fn output(out: &JsValue, expected: usize) -> Result<&Float64Array, Th
         return Err(Error::CountMismatch { what: "output length", got: array.len(), expected }.into());
     }
     Ok(array)
+}
+
+/// Copies `weights`, a `Float64Array` of exactly `buffer.len()` numbers (one per pose of a
+/// blender), into `buffer` without allocating: `blend` and `blendInto` of every frame.
+/// Errors: `bad-type`, `bad-length`; the values are the core's to check.
+pub(crate) fn read_weights(weights: &JsValue, buffer: &mut [f64]) -> Result<(), Thrown> {
+    let array = typed::<Float64Array>("weights", weights)?;
+    let (got, expected) = (array.len(), buffer.len());
+    if got != expected {
+        return Err(Error::CountMismatch { what: "weights", got, expected }.into());
+    }
+    array.copy_to(buffer);
+    Ok(())
 }
 
 /// `value` as a plain JS array of at most `limit` items (`what`, for the message), or a

@@ -47,7 +47,7 @@ test("the playback build exports what plays documents, and none of the authoring
   for (const name of ["Player", "Track", "KeyTrack", "Easing", "Rig", "ParameterSpring"]) {
     assert.equal(typeof playback[name], "function", `bunraku/player exports ${name}`);
   }
-  for (const name of ["Puppet", "Mesh", "Blender", "Dynamics", "Character", "Renderer", "flatten", "surfaceFromOBJ"]) {
+  for (const name of ["Puppet", "Mesh", "Blender", "SurfaceBlender", "Dynamics", "Character", "Renderer", "flatten", "surfaceFromOBJ"]) {
     assert.equal(playback[name], undefined, `bunraku/player does not export ${name}`);
     assert.equal(typeof full[name], "function", `bunraku exports ${name}`);
   }
