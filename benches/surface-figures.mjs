@@ -1,0 +1,97 @@
+// The README's pictures of the 3D surfaces (issue 27, "Done when"), drawn in headless
+// Chromium (software WebGL2) by the example page examples/three-surfaces itself, with the
+// built package (dist/, pkg/) and the repository's three:
+//
+//   docs/surface-blend.png   the glTF tail at the midway curl (weight 0.5 of its 180° curl
+//                            pose): three.js's morph targets (a linear blend) on the left,
+//                            bunraku's SurfaceBlender (Kaji) on the right, each labelled with
+//                            its volume change.
+//
+// The page's TypeScript is bundled here with esbuild (`bunraku` resolved to dist/, its wasm
+// served from pkg/), not built with Vite, so that the script needs no npm install; the page
+// is opened with `?antialias`. Each figure is a screenshot of the page's views, written with
+// deflate level 9; the script prints its size and fails if one is over 150 KB.
+//
+//   node scripts/build-gl.mjs && node benches/surface-figures.mjs
+
+import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
+import { fileURLToPath } from "node:url";
+import { build } from "esbuild";
+import { PNG } from "pngjs";
+import { chromium } from "playwright-core";
+import { buildGL, GL_DIST } from "../scripts/build-gl.mjs";
+import { CHROMIUM, CHROMIUM_ARGS } from "../tests/browser/_harness.mjs";
+
+const ROOT = fileURLToPath(new URL("../", import.meta.url));
+const EXAMPLE = `${ROOT}examples/three-surfaces/`;
+const ORIGIN = "http://bunraku-surfaces.test";
+const LIMIT = 150 * 1024;
+
+/** The figures: the sliders' weights, and what the page shows then. */
+const FIGURES = {
+  "surface-blend": { weights: [0.5, 0, 0] },
+};
+
+/** The example's script as one ES module: `bunraku` from dist/, three from node_modules,
+ *  and Vite's `?url` import of the wasm as its URL on this origin. */
+async function bundle() {
+  const result = await build({
+    entryPoints: [`${EXAMPLE}src/main.ts`],
+    bundle: true,
+    format: "esm",
+    target: "es2022",
+    write: false,
+    logLevel: "error",
+    plugins: [{
+      name: "bunraku",
+      setup(b) {
+        b.onResolve({ filter: /^bunraku\/bunraku_bg\.wasm\?url$/ }, () => ({ path: "wasm-url", namespace: "bunraku" }));
+        b.onLoad({ filter: /.*/, namespace: "bunraku" }, () => ({ contents: 'export default "/pkg/bunraku_bg.wasm";', loader: "js" }));
+        b.onResolve({ filter: /^bunraku$/ }, () => ({ path: `${GL_DIST}/index.js` }));
+      },
+    }],
+  });
+  return result.outputFiles[0].contents;
+}
+
+buildGL({ log: (line) => console.log(line) });
+const script = await bundle();
+const html = readFileSync(`${EXAMPLE}index.html`, "utf8").replace('src="/src/main.ts"', 'src="/main.js"');
+mkdirSync(`${ROOT}docs`, { recursive: true });
+const browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+const over = [];
+try {
+  const context = await browser.newContext({ viewport: { width: 900, height: 640 }, deviceScaleFactor: 1 });
+  await context.route(`${ORIGIN}/**`, (route) => {
+    const path = new URL(route.request().url()).pathname;
+    const file = (p, type) => route.fulfill({ contentType: type, body: readFileSync(p) });
+    if (path === "/") return route.fulfill({ contentType: "text/html", body: html });
+    if (path === "/main.js") return route.fulfill({ contentType: "text/javascript", body: Buffer.from(script) });
+    if (path === "/tail.glb") return file(`${EXAMPLE}public/tail.glb`, "model/gltf-binary");
+    if (path === "/pkg/bunraku_bg.wasm") return file(`${ROOT}pkg/bunraku_bg.wasm`, "application/wasm");
+    return route.fulfill({ status: 404, body: "not found" });
+  });
+  const tab = await context.newPage();
+  const errors = [];
+  tab.on("console", (m) => m.type() === "error" && errors.push(m.text()));
+  tab.on("pageerror", (e) => errors.push(e.message));
+  await tab.goto(`${ORIGIN}/?antialias`);
+  await tab.waitForFunction(() => document.querySelector("#status")?.dataset.state === "ready" || document.querySelector("#status")?.dataset.state === "error", null, { timeout: 120_000 });
+  if (errors.length) throw new Error(errors.join("\n"));
+  for (const [name, { weights }] of Object.entries(FIGURES)) {
+    const readout = await tab.evaluate((w) => window.__surfaces.set(w), weights);
+    // Two frames, so that what was drawn is on screen.
+    await tab.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
+    const shot = PNG.sync.read(await tab.locator("#views").screenshot());
+    const png = PNG.sync.write(shot, { deflateLevel: 9 });
+    writeFileSync(`${ROOT}docs/${name}.png`, png);
+    const volumes = `volume ${(100 * readout.volumeMorph).toFixed(1)}% (morph targets), ${(100 * readout.volumeKaji).toFixed(2)}% (Kaji)`;
+    console.log(`docs/${name}.png: ${shot.width} × ${shot.height}, ${(png.length / 1024).toFixed(1)} KB; weights ${weights}: ${volumes}`);
+    if (png.length > LIMIT) over.push(`docs/${name}.png is ${(png.length / 1024).toFixed(1)} KB`);
+  }
+  if (errors.length) throw new Error(errors.join("\n"));
+  await context.close();
+} finally {
+  await browser.close();
+}
+if (over.length) throw new Error(`over ${LIMIT / 1024} KB: ${over.join("; ")}`);
