@@ -92,14 +92,14 @@ pub struct SurfaceDeformer {
     edges: Vec<InteriorEdge>,
     /// `ℓ̄`, the mean edge length.
     scale: f64,
-    /// Per triangle `t`, the vectors `b` with `rhs_u += T_t b` (`starts[t]..starts[t + 1]`).
-    loads: Vec<(u32, [f64; 3])>,
+    /// Per triangle `t`, the vertices `u` and vectors `b` with `rhs_u += T_t b`
+    /// (`starts[t]..starts[t + 1]`).
+    load_vertices: Vec<u32>,
+    load_vectors: Vec<[f64; 3]>,
     starts: Vec<u32>,
     compiled: Option<Compiled>,
     /// Per handle: `log R_k`, `σ_k`, `A_k`, `b_k` of the last update.
     handles: Vec<([f64; 3], f64, Mat3, [f64; 3])>,
-    /// Per triangle, the guidance `T_t` of the last update.
-    guidance: Vec<Mat3>,
     rhs: Vec<Triple>,
     given: Vec<Triple>,
     solution: Vec<Triple>,
@@ -152,25 +152,27 @@ impl SurfaceDeformer {
             }
         });
         let mut starts = Vec::with_capacity(per_triangle.len() + 1);
-        let mut loads = Vec::new();
+        let (mut load_vertices, mut load_vectors) = (Vec::new(), Vec::new());
         starts.push(0);
         for list in per_triangle {
-            loads.extend(list);
-            starts.push(loads.len() as u32);
+            for (u, b) in list {
+                load_vertices.push(u);
+                load_vectors.push(b);
+            }
+            starts.push(load_vertices.len() as u32);
         }
         let n = surface.vertices().len();
-        let t = surface.triangles().len();
         Ok(SurfaceDeformer {
             surface,
             options,
             geometry,
             edges,
             scale,
-            loads,
+            load_vertices,
+            load_vectors,
             starts,
             compiled: None,
             handles: Vec::new(),
-            guidance: vec![[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]; t],
             rhs: vec![Triple::default(); n],
             given: vec![Triple::default(); n],
             solution: vec![Triple::default(); n],
@@ -294,23 +296,20 @@ impl SurfaceDeformer {
             }
             return Ok(());
         };
-        // The handles' parameters are scratch of this call: an error leaves what matters
-        // (the compile, the positions, the guidance) as it was.
+        // Checked in full before any is kept: a failed call leaves the last update's.
+        for (k, m) in transforms.chunks_exact(16).enumerate() {
+            handle_transform(k, m)?;
+        }
         for (k, (slot, m)) in self.handles.iter_mut().zip(transforms.chunks_exact(16)).enumerate() {
             *slot = handle_transform(k, m)?;
         }
         // Guidance (\[Z\] §3) and the right-hand side Σ_t T_t b.
         self.rhs.fill(Triple::default());
-        for (t, (fields, guidance)) in compiled.fields.chunks_exact(h).zip(&mut self.guidance).enumerate() {
-            let (mut w, mut scale) = ([0.0; 3], 1.0);
-            for (&s, (omega, sigma, _, _)) in fields.iter().zip(&self.handles) {
-                w = [0, 1, 2].map(|i| w[i] + s * omega[i]);
-                scale += s * (sigma - 1.0);
-            }
-            let r = exp_rotation(w);
-            *guidance = r.map(|row| row.map(|x| x * scale));
-            for &(u, b) in &self.loads[self.starts[t] as usize..self.starts[t + 1] as usize] {
-                self.rhs[u as usize] += Triple(apply(guidance, b));
+        for (t, fields) in compiled.fields.chunks_exact(h).enumerate() {
+            let guidance = guidance(&self.handles, fields);
+            let (from, to) = (self.starts[t] as usize, self.starts[t + 1] as usize);
+            for (&u, b) in self.load_vertices[from..to].iter().zip(&self.load_vectors[from..to]) {
+                self.rhs[u as usize] += Triple(apply(&guidance, *b));
             }
         }
         for &(v, k) in &compiled.handle_vertices {
@@ -322,18 +321,30 @@ impl SurfaceDeformer {
         Ok(())
     }
 
+    /// Each triangle's guidance `T_t` at the last update (the identity before any compile).
+    fn guidances(&self) -> Vec<Mat3> {
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        match &self.compiled {
+            None => vec![identity; self.surface.triangles().len()],
+            Some(c) => {
+                c.fields.chunks_exact(self.handles.len()).map(|f| guidance(&self.handles, f)).collect()
+            }
+        }
+    }
+
     /// `E_β` at `positions` (one per welded vertex) with the guidance of the last update,
     /// evaluated from its definition (\[H\] eq. 9) triangle by triangle and edge by edge: a
     /// diagnostic, and the reference against which the assembled system is tested.
     pub fn energy(&self, positions: &[[f64; 3]]) -> f64 {
         let tris = self.surface.triangles();
+        let guidance = self.guidances();
         let beta = self.options.regularization;
         let residual = |t: usize| {
             let j = self.geometry.jacobian(t, tris[t], positions);
             let n = self.geometry.normals[t];
             let projector: Mat3 =
                 std::array::from_fn(|r| std::array::from_fn(|c| f64::from(r == c) - n[r] * n[c]));
-            let g = mul(&self.guidance[t], &projector);
+            let g = mul(&guidance[t], &projector);
             std::array::from_fn::<[f64; 3], 3, _>(|r| std::array::from_fn(|c| j[r][c] - g[r][c]))
         };
         let norm2 = |m: &Mat3| m.iter().flatten().map(|x| x * x).sum::<f64>();
@@ -359,6 +370,7 @@ impl SurfaceDeformer {
     /// welded vertex), from the assembled terms: `2 Σ_terms w (Σ_u x_u c_uᵀ − G) c_u`.
     pub fn energy_gradient(&self, positions: &[[f64; 3]], out: &mut [[f64; 3]]) {
         out.fill([0.0; 3]);
+        let guidance = self.guidances();
         let tris = self.surface.triangles();
         let (beta, operator) = (self.options.regularization, self.options.operator);
         for_each_term(&self.geometry, tris, &self.edges, beta, self.scale, operator, |term| {
@@ -375,7 +387,7 @@ impl SurfaceDeformer {
                 let n = self.geometry.normals[s as usize];
                 let projector: Mat3 =
                     std::array::from_fn(|r| std::array::from_fn(|c| f64::from(r == c) - n[r] * n[c]));
-                let g = mul(&mul(&self.guidance[s as usize], &projector), &m);
+                let g = mul(&mul(&guidance[s as usize], &projector), &m);
                 for (row, grow) in r.iter_mut().zip(&g) {
                     for (value, gv) in row.iter_mut().zip(grow) {
                         *value -= gv;
@@ -390,6 +402,18 @@ impl SurfaceDeformer {
             }
         });
     }
+}
+
+/// A triangle's guidance `T_t = exp(Σ_k s_{k,t} log R_k) · (1 + Σ_k s_{k,t} (σ_k − 1))`
+/// from its fields `s_{k,t}` and the handles' `(log R_k, σ_k, …)`.
+#[inline]
+fn guidance(handles: &[([f64; 3], f64, Mat3, [f64; 3])], fields: &[f64]) -> Mat3 {
+    let (mut w, mut scale) = ([0.0; 3], 1.0);
+    for (&s, (omega, sigma, _, _)) in fields.iter().zip(handles) {
+        w = [w[0] + s * omega[0], w[1] + s * omega[1], w[2] + s * omega[2]];
+        scale += s * (sigma - 1.0);
+    }
+    exp_rotation(w).map(|row| row.map(|x| x * scale))
 }
 
 /// Adds a term's part of `K_β`, `w c_u · c_{u′}`, as upper-triangle triplets.
