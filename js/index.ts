@@ -11,9 +11,9 @@ export { MAX_NESTING, MAX_PLAIN_VALUES } from "./guard.js";
 
 const state: GlueState = { initialised: false };
 
-guardGlue(state, [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.ParameterSpring, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.SurfaceBlender, glue.Track] as unknown as Class[]);
+guardGlue(state, [glue.Blender, glue.Character, glue.Dynamics, glue.Easing, glue.KeyTrack, glue.Mesh, glue.ParameterSpring, glue.Player, glue.Puppet, glue.Renderer, glue.Rig, glue.SurfaceBlender, glue.SurfaceDeformer, glue.Track] as unknown as Class[]);
 
-// Blender, Character, Dynamics, Easing, Mesh, ParameterSpring, Player, Puppet, Rig and SurfaceBlender are the glue's classes, guarded in place (exported by
+// Blender, Character, Dynamics, Easing, Mesh, ParameterSpring, Player, Puppet, Rig, SurfaceBlender and SurfaceDeformer are the glue's classes, guarded in place (exported by
 // `export *`). KeyTrack, Renderer and Track are made with `new`, which only a wrapper can guard.
 export const Renderer = guardConstructor(state, glue.Renderer);
 export type Renderer = glue.Renderer;
@@ -23,6 +23,7 @@ export const KeyTrack = guardConstructor(state, glue.KeyTrack);
 export type KeyTrack = glue.KeyTrack;
 export const flatten = guarded(state, "flatten", glue.flatten as AnyFunction, false) as typeof glue.flatten;
 export const surfaceFromOBJ = guarded(state, "surfaceFromOBJ", glue.surfaceFromOBJ as AnyFunction, false) as typeof glue.surfaceFromOBJ;
+export const surfaceQuality = guarded(state, "surfaceQuality", glue.surfaceQuality as AnyFunction, false) as typeof glue.surfaceQuality;
 
 /** Instantiates the module from `module` (a `WebAssembly.Module`, or its bytes), at once. */
 export function initSync(module: { module: SyncInitInput } | SyncInitInput): InitOutput {

@@ -134,6 +134,18 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+    /// A vertex of a surface deformer's region (`fixed` or a handle) that is out of range or
+    /// already in another region ([`crate::surface3::SurfaceDeformer::compile`]).
+    BadRegion {
+        /// The region, as the caller named it: `fixed` or `handles[k]`.
+        region: String,
+        /// The offending item's place in that region's list.
+        index: usize,
+        /// The vertex index it gives.
+        vertex: u32,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// A point (a starch or overlap region's centre) that lies outside every triangle.
     PointOutside {
         /// What the point is (`"starch"`, `"overlap"`).
@@ -381,7 +393,7 @@ impl Error {
     /// binding's `error.code`): `"non-finite"`, `"bad-length"`, `"index-out-of-range"`,
     /// `"degenerate-triangle"`, `"duplicate-triangle"`, `"non-manifold-edge"`,
     /// `"folded-edge"`, `"unused-vertex"`, `"empty-mesh"`, `"too-large"`, `"bad-option"`,
-    /// `"handle-outside"`, `"bad-handle"`, `"coincident-handles"`, `"point-outside"`,
+    /// `"handle-outside"`, `"bad-handle"`, `"bad-region"`, `"coincident-handles"`, `"point-outside"`,
     /// `"overlapping-pins"`,
     /// `"factorization-failed"`, `"bad-outline"`, `"bad-picture"`, `"bad-size"`, `"bad-obj"`,
     /// `"bad-json"`, `"inconsistent-orientation"`, `"not-a-disc"`, `"flipped-triangles"`,
@@ -405,6 +417,7 @@ impl Error {
             Error::BadOption { .. } => "bad-option",
             Error::HandleOutside { .. } => "handle-outside",
             Error::BadHandle { .. } => "bad-handle",
+            Error::BadRegion { .. } => "bad-region",
             Error::CoincidentHandles { .. } => "coincident-handles",
             Error::PointOutside { .. } => "point-outside",
             Error::OverlappingPins { .. } => "overlapping-pins",
@@ -480,6 +493,9 @@ impl Error {
                 format!("handle {handle} at ({}, {}) lies outside the shape", n(point[0]), n(point[1]))
             }
             Error::BadHandle { handle, reason } => format!("handle {handle}: {reason}"),
+            Error::BadRegion { region, index, vertex, reason } => {
+                format!("{region}[{index}] = {vertex} {reason}")
+            }
             Error::PointOutside { what, index, point } => {
                 format!("{what} {index} at ({}, {}) lies outside the shape", n(point[0]), n(point[1]))
             }

@@ -1,6 +1,15 @@
-//! Blending poses of 3D triangle surfaces as rigidly as possible: S. Kaji, "Tetrisation of
-//! triangular meshes and its application in shape blending", arXiv:1601.04816 (\[K\]), §3–§6,
-//! in 3D (issue 27; research note `surfaces.md`). The 2D counterpart is [`crate::blend`].
+//! The seed papers' 3D systems (issue 27; research note `surfaces.md`):
+//!
+//! * **Blending poses** of 3D triangle surfaces as rigidly as possible ([`SurfaceBlender`]):
+//!   S. Kaji, "Tetrisation of triangular meshes and its application in shape blending",
+//!   arXiv:1601.04816 (\[K\]), §3–§6, in 3D. The 2D counterpart is [`crate::blend`].
+//! * **Deforming** a surface by handle regions ([`SurfaceDeformer`]): Y. Kozlov, J. Martinez
+//!   Esturo, H.-P. Seidel, T. Weinkauf, "Regularized Harmonic Surface Deformation",
+//!   arXiv:1408.3326 (\[H\]), on R. Zayer et al., "Harmonic guidance for surface
+//!   deformation" (\[Z\]) and Martinez Esturo et al.'s smoothed quadratic energies (\[MRT\]).
+//!   See `deformer` for the equations and the departures.
+//! * **Measuring** either against the rest ([`surface_quality`]), as the 2D
+//!   [`crate::quality`] does.
 //!
 //! ```text
 //! vertices3, triangles ──SurfaceBlender::register──▶ (weld, eliminate ghosts, factorise K)
@@ -15,6 +24,12 @@
 //! | `unwrap3` | the continuous logarithm `log^c` over the triangle adjacency, from an anchor | §5 |
 //! | `stitch3` | `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
 //! | `blender` | [`SurfaceBlender`] | §3 |
+//! | `harmonic` | rest hat-function gradients, cotangent stiffness, the harmonic fields | \[H\] eq. 2–3, \[Z\] §3 |
+//! | `regularise3` | the energy's triangle and edge terms, plain and aligned operators | \[H\] eq. 6–10 |
+//! | `reduced` | a system with given (Dirichlet) vertices, factorised once | \[H\] eq. 11 |
+//! | `regions` | the fixed vertices and handles, checked and welded | |
+//! | `deformer` | [`SurfaceDeformer`] | \[H\] §3 |
+//! | `quality3` | [`surface_quality`] | \[H\] §6 |
 //!
 //! A blend with weights `w_k` takes, for every triangle's face tetrahedron, `C_t =
 //! exp(Σ_k w_k ω_{k,t}) · exp(Σ_k w_k L_{k,t})` (Blend_C, eq. 3; `ω` the unwrapped
@@ -39,12 +54,22 @@
 //! * **Edge and vertex tetrisations** (\[K\] §4.2–4.3) are not built yet.
 
 mod blender;
+mod deformer;
+mod harmonic;
 mod kernel3;
 pub mod mesh3;
+mod quality3;
+mod reduced;
+mod regions;
+mod regularise3;
 mod stitch3;
 mod tetrise;
 mod unwrap3;
 
 pub use blender::{Stitch, SurfaceBlender, SurfaceOptions, SurfacePoseOptions};
+pub use deformer::{DeformOptions, SurfaceDeformer, DEFAULT_REGULARIZATION};
 pub use mesh3::{Surface3, MAX_TRIANGLES, WELD_TOLERANCE};
+pub use quality3::{surface_quality, SurfaceQuality};
+pub use regions::MAX_SURFACE_HANDLES;
+pub use regularise3::DeformOperator;
 pub use tetrise::Tetrisation;

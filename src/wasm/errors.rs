@@ -25,7 +25,7 @@ export type ErrorCode =
   | "handle-outside" | "bad-handle" | "coincident-handles" | "factorization-failed"
   | "bad-outline" | "bad-picture" | "bad-size" | "bad-obj" | "bad-json"
   | "inconsistent-orientation" | "not-a-disc" | "flipped-triangles" | "bad-pose"
-  | "point-outside" | "overlapping-pins"
+  | "point-outside" | "overlapping-pins" | "bad-region"
   | "bad-time" | "empty-track" | "bad-document" | "bad-version" | "bad-simulation" | "bad-layer"
   | "bad-parameter" | "freed" | "not-initialized" | "unreadable";
 
@@ -39,7 +39,7 @@ export interface BunrakuError extends Error {
    *  (`[x0, y0, …]`; of a blend's `weights`: the weight); `handle-outside`, `bad-handle`: the handle
    *  (or pin); `bad-pose`: the pose index given; `point-outside`: the starch or overlap region;
    *  `bad-option` for an item of a list (`kinds[1]`, `radius[1]`, `starch[0].extent`): the item;
-   *  `bad-layer`: the layer; `bad-simulation`: the rendered vertex (the rendered triangle when `field` is
+   *  `bad-layer`: the layer; `bad-region`: the item's place in its region's list (`region`); `bad-simulation`: the rendered vertex (the rendered triangle when `field` is
    *  `"simulation.triangles"`) at fault. */
   index?: number;
   /** `non-finite`, `too-large`: the point (vertex, handle, target) the number belongs to. */
@@ -62,8 +62,11 @@ export interface BunrakuError extends Error {
   type?: string;
   /** `index-out-of-range`, `degenerate-triangle`, `duplicate-triangle` (the repeat): the triangle. */
   triangle?: number;
-  /** `index-out-of-range`: the vertex index the triangle names; `unused-vertex`: the vertex. */
+  /** `index-out-of-range`: the vertex index the triangle names; `unused-vertex`: the vertex;
+   *  `bad-region`: the vertex index the region's item gives. */
   vertex?: number;
+  /** `bad-region`: the deformer's region at fault, `"fixed"` or `"handles[k]"`. */
+  region?: string;
   /** `index-out-of-range`: how many vertices there are. */
   vertexCount?: number;
   /** `coincident-handles`, `overlapping-pins`, `duplicate-triangle`: the earlier of the two. */
@@ -223,6 +226,9 @@ impl From<Error> for Thrown {
                 t.with("index", handle).with("point", pair(point[0], point[1]))
             }
             Error::BadHandle { handle, .. } => t.with("index", handle),
+            Error::BadRegion { region, index, vertex, .. } => {
+                t.with("region", region.as_str()).with("index", index).with("vertex", vertex)
+            }
             Error::CoincidentHandles { first, second } | Error::OverlappingPins { first, second } => {
                 t.with("first", first).with("second", second)
             }

@@ -72,7 +72,7 @@ export interface Surface {
 "#;
 
 /// A `QualitySummary`.
-fn summary_object(s: &Summary) -> Object {
+pub(crate) fn summary_object(s: &Summary) -> Object {
     let o = Object::new();
     for (key, value) in
         [("min", s.min), ("max", s.max), ("mean", s.mean), ("p50", s.p50), ("p95", s.p95), ("p99", s.p99)]
@@ -80,6 +80,22 @@ fn summary_object(s: &Summary) -> Object {
         set(&o, key, &value.into());
     }
     o
+}
+
+/// The per-triangle columns of a `Quality` (`sigma1`, `sigma2`, `isometric`, `conformal`,
+/// `areaRatio`), each a `Float64Array` in triangle order.
+pub(crate) fn per_triangle_object(triangles: &[TriangleQuality]) -> Object {
+    let per = Object::new();
+    let column = |f: fn(&TriangleQuality) -> f64| {
+        let v: Vec<f64> = triangles.iter().map(f).collect();
+        Float64Array::from(v.as_slice())
+    };
+    set(&per, "sigma1", &column(|t| t.sigma[0]));
+    set(&per, "sigma2", &column(|t| t.sigma[1]));
+    set(&per, "isometric", &column(|t| t.isometric));
+    set(&per, "conformal", &column(|t| t.conformal));
+    set(&per, "areaRatio", &column(|t| t.area_ratio));
+    per
 }
 
 /// A `Quality`.
@@ -91,16 +107,7 @@ pub(crate) fn quality_object(q: &Quality) -> JsValue {
     set(&o, "edgeStrain", &summary_object(&q.edge_strain));
     set(&o, "flipped", &(q.flipped as f64).into());
     set(&o, "windingDefects", &(q.winding_defects as f64).into());
-    let per = Object::new();
-    let column = |f: fn(&TriangleQuality) -> f64| {
-        let v: Vec<f64> = q.triangles.iter().map(f).collect();
-        Float64Array::from(v.as_slice())
-    };
-    set(&per, "sigma1", &column(|t| t.sigma[0]));
-    set(&per, "sigma2", &column(|t| t.sigma[1]));
-    set(&per, "isometric", &column(|t| t.isometric));
-    set(&per, "conformal", &column(|t| t.conformal));
-    set(&per, "areaRatio", &column(|t| t.area_ratio));
+    let per = per_triangle_object(&q.triangles);
     let flipped: Vec<u8> = q.triangles.iter().map(|t| t.flipped as u8).collect();
     set(&per, "flipped", &js_sys::Uint8Array::from(flipped.as_slice()));
     set(&o, "perTriangle", &per);

@@ -10,6 +10,7 @@
 //! | `keys` | `Easing` (CSS cubic Béziers, exact in f64) and `KeyTrack` (eased keyframes) |
 //! | `blend` | `Blender`: poses of one mesh blended by weights |
 //! | `surface` | `SurfaceBlender`: poses of one 3D surface blended by weights (authoring) |
+//! | `surface_deform` | `SurfaceDeformer` (handle regions, regularised harmonic) and `surfaceQuality` (authoring) |
 //! | `dynamics` | `Dynamics`: springs on a puppet's secondary pins, on a fixed tick |
 //! | `rig` | `Rig`: named parameters whose values pick keyforms, in one blend |
 //! | `mesh` | `Mesh`: from outlines, pictures, OBJ and JSON; `MeshJSON` |
@@ -64,6 +65,8 @@ mod simulation;
 mod spring;
 #[cfg(feature = "authoring")]
 mod surface;
+#[cfg(feature = "authoring")]
+mod surface_deform;
 
 pub use animation::{JsPlayer, JsTrack};
 #[cfg(feature = "authoring")]
@@ -84,6 +87,8 @@ pub use rig::JsRig;
 pub use spring::JsParameterSpring;
 #[cfg(feature = "authoring")]
 pub use surface::JsSurfaceBlender;
+#[cfg(feature = "authoring")]
+pub use surface_deform::{surface_quality_js, JsSurfaceDeformer};
 
 use js_sys::{Float32Array, Float64Array, Uint16Array, Uint32Array, Uint8Array, Uint8ClampedArray};
 use wasm_bindgen::prelude::wasm_bindgen;

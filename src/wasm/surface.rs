@@ -87,12 +87,7 @@ impl JsSurfaceBlender {
     ) -> Result<JsSurfaceBlender, Thrown> {
         let options = surface_options(&options)?;
         let vertices = points3("vertices3", &vertices3)?;
-        let triangles = if triangles.dyn_ref::<Uint16Array>().is_some() {
-            let small = items::<Uint16Array, 3>("triangles", &triangles)?;
-            small.iter().map(|t| t.map(u32::from)).collect()
-        } else {
-            items::<Uint32Array, 3>("triangles", &triangles)?
-        };
+        let triangles = triangle_indices(&triangles)?;
         let blender = SurfaceBlender::register(vertices, triangles, options)?;
         let out = vec![[0.0; 3]; blender.surface().caller_vertex_count()];
         Ok(JsSurfaceBlender { blender, weights: Vec::new(), out, staging: Vec::new() })
@@ -242,8 +237,18 @@ impl JsSurfaceBlender {
     }
 }
 
+/// Triangles `[a, b, c]` from a `Uint32Array`, or a `Uint16Array` as three.js indexes small
+/// meshes; `bad-type`, `bad-length` otherwise.
+pub(super) fn triangle_indices(value: &JsValue) -> Result<Vec<[u32; 3]>, Thrown> {
+    if value.dyn_ref::<Uint16Array>().is_some() {
+        let small = items::<Uint16Array, 3>("triangles", value)?;
+        return Ok(small.iter().map(|t| t.map(u32::from)).collect());
+    }
+    items::<Uint32Array, 3>("triangles", value)
+}
+
 /// `bad-length` unless an output array's length `got` is `expected`.
-fn check_output(got: usize, expected: usize) -> Result<(), Thrown> {
+pub(super) fn check_output(got: usize, expected: usize) -> Result<(), Thrown> {
     if got != expected {
         return Err(Error::CountMismatch { what: "output length", got, expected }.into());
     }
@@ -251,7 +256,7 @@ fn check_output(got: usize, expected: usize) -> Result<(), Thrown> {
 }
 
 /// The length of `value`, a `Float64Array` or a `Float32Array`, or a `bad-type` error.
-fn array_length(argument: &str, value: &JsValue) -> Result<usize, Thrown> {
+pub(super) fn array_length(argument: &str, value: &JsValue) -> Result<usize, Thrown> {
     if let Some(a) = value.dyn_ref::<Float64Array>() {
         Ok(a.len())
     } else if let Some(a) = value.dyn_ref::<Float32Array>() {
@@ -263,7 +268,7 @@ fn array_length(argument: &str, value: &JsValue) -> Result<usize, Thrown> {
 
 /// Points `[x, y, z]` from a `Float64Array` or a `Float32Array` (three.js's position
 /// arrays); `bad-type` for another value, `bad-length` for a length not a multiple of 3.
-fn points3(what: &'static str, value: &JsValue) -> Result<Vec<[f64; 3]>, Thrown> {
+pub(super) fn points3(what: &'static str, value: &JsValue) -> Result<Vec<[f64; 3]>, Thrown> {
     if value.dyn_ref::<Float32Array>().is_some() {
         let points = items::<Float32Array, 3>(what, value)?;
         return Ok(points.iter().map(|p| p.map(f64::from)).collect());

@@ -67,3 +67,63 @@ export const volume = (p, t) => {
   }
   return sum / 6;
 };
+
+/** A closed box [0, sx] × [0, sy] × [0, sz] with `n[i]` squares along axis `i`, outward; each
+ *  face its own grid, so the box's edges and corners are duplicated vertices (as a glTF
+ *  export splits them along normal seams), which the surface classes weld. */
+export function bar(size, n) {
+  const v = [];
+  const t = [];
+  // [fixed axis, side, u axis, w axis] with u × w outward.
+  for (const [axis, side, u, w] of [[2, 0, 1, 0], [2, 1, 0, 1], [1, 0, 0, 2], [1, 1, 2, 0], [0, 0, 2, 1], [0, 1, 1, 2]]) {
+    const base = v.length / 3;
+    for (let j = 0; j <= n[w]; j++) {
+      for (let i = 0; i <= n[u]; i++) {
+        const p = [0, 0, 0];
+        p[axis] = side * size[axis];
+        p[u] = (size[u] * i) / n[u];
+        p[w] = (size[w] * j) / n[w];
+        v.push(...p);
+      }
+    }
+    const id = (i, j) => base + j * (n[u] + 1) + i;
+    for (let j = 0; j < n[w]; j++) {
+      for (let i = 0; i < n[u]; i++) {
+        const [a, b, c, d] = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+        if ((i + j) % 2 === 0) t.push(a, b, c, a, c, d);
+        else t.push(a, b, d, b, c, d);
+      }
+    }
+  }
+  return [new Float64Array(v), new Uint32Array(t)];
+}
+
+/** The column-major 4×4 matrix (three.js's `Matrix4.elements`) turning by `angle` about the
+ *  unit `axis` through `pivot`, then shifting by `shift`. */
+export function turnAbout(axis, angle, pivot, shift = [0, 0, 0]) {
+  const [s, c] = [Math.sin(angle), Math.cos(angle)];
+  const [x, y, z] = axis;
+  const r = [
+    [c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+    [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+    [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)],
+  ];
+  const m = new Float64Array(16);
+  for (let row = 0; row < 3; row++) {
+    for (let col = 0; col < 3; col++) m[4 * col + row] = r[row][col];
+    m[12 + row] = pivot[row] - (r[row][0] * pivot[0] + r[row][1] * pivot[1] + r[row][2] * pivot[2]) + shift[row];
+  }
+  m[15] = 1;
+  return m;
+}
+
+/** `m` (column-major 4×4) applied to every point of `points`. */
+export const transformed = (points, m) =>
+  mapped(points, ([x, y, z]) => [0, 1, 2].map((r) => m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r]));
+
+/** The indices of the points whose z is within `eps` of `at`. */
+export const slab = (points, at, eps = 1e-9) => {
+  const out = [];
+  for (let i = 0; i < points.length / 3; i++) if (Math.abs(points[3 * i + 2] - at) <= eps) out.push(i);
+  return new Uint32Array(out);
+};

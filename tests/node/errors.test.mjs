@@ -6,7 +6,7 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { spawnSync } from "node:child_process";
-import { initSync, Blender, Character, Mesh, Player, Puppet, Renderer, Rig, Track, flatten, surfaceFromOBJ } from "bunraku";
+import { initSync, Blender, Character, Mesh, Player, Puppet, Renderer, Rig, SurfaceDeformer, Track, flatten, surfaceFromOBJ } from "bunraku";
 import { grid } from "./_grid.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -229,6 +229,16 @@ code("bad-handle", () => {
   throws(() => puppet.compileVertices(new Uint32Array([0, 99])), "bad-handle", { index: 1 }, /^handle 1: /);
   unchanged();
   puppet.free();
+});
+
+code("bad-region", () => {
+  const vertices3 = new Float64Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]);
+  const deformer = SurfaceDeformer.register(vertices3, new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]));
+  throws(() => deformer.compile({ fixed: new Uint32Array([0]), handles: [new Uint32Array([3, 9])] }), "bad-region", { region: "handles[0]", index: 1, vertex: 9 }, /^handles\[0\]\[1\] = 9 is not a vertex index \(there are 4 vertices\)$/);
+  throws(() => deformer.compile({ fixed: new Uint32Array([0]), handles: [new Uint32Array([0])] }), "bad-region", { region: "handles[0]", index: 0, vertex: 0 }, /already in fixed/);
+  deformer.compile({ fixed: new Uint32Array([0]), handles: [new Uint32Array([3])] });
+  assert.equal(deformer.handleCount, 1, "the deformer still works");
+  deformer.free();
 });
 
 code("coincident-handles", () => {

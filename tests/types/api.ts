@@ -8,8 +8,11 @@ import {
   Player,
   Puppet,
   Renderer,
+  SurfaceBlender,
+  SurfaceDeformer,
   flatten,
   surfaceFromOBJ,
+  surfaceQuality,
   type BunrakuError,
   type EdgeWeights,
   type ErrorCode,
@@ -23,6 +26,10 @@ import {
   type RegisterOptions,
   type RenderOptions,
   type Surface,
+  type SurfaceBlendOptions,
+  type SurfaceDeformOptions,
+  type SurfaceQuality,
+  type SurfaceRegions,
 } from "bunraku";
 import {
   MeshPainter,
@@ -102,6 +109,28 @@ try {
   if (code === "handle_outside") throw error;
   if (error instanceof Error && code === "handle-outside") console.warn(error.message, error.index);
 }
+
+// Issue 27: the 3D surfaces take three.js's arrays and matrices.
+const positions32 = new Float32Array(9);
+const index16 = new Uint16Array(3);
+const blender3 = SurfaceBlender.register(positions32, index16, { tetrisation: "face", stitch: "shape", iterations: 2 });
+blender3.blendInto(new Float64Array(1), positions32);
+const deformer3 = SurfaceDeformer.register(v, t, { regularization: 0.5, operator: "aligned" });
+deformer3.compile({ fixed: t, handles: [t] });
+deformer3.updateInto([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], positions32);
+deformer3.updateInto(new Float64Array(16), v);
+check<Equal<Parameters<typeof SurfaceBlender.register>[2], SurfaceBlendOptions | undefined>>();
+check<Equal<Parameters<typeof SurfaceDeformer.register>[2], SurfaceDeformOptions | undefined>>();
+check<Equal<Parameters<SurfaceDeformer["compile"]>[0], SurfaceRegions>>();
+check<Equal<ReturnType<typeof surfaceQuality>, SurfaceQuality>>();
+check<Equal<SurfaceQuality["volumeChange"], number | null>>();
+check<Equal<typeof deformer3.operator, "plain" | "aligned">>();
+// @ts-expect-error: no such operator
+SurfaceDeformer.register(v, t, { operator: "curved" });
+// @ts-expect-error: handles are a list of Uint32Array
+deformer3.compile({ handles: t });
+// @ts-expect-error: the output is a typed array
+deformer3.updateInto(new Float64Array(16), [0, 0, 0]);
 
 // bunraku/gl: the pictures it takes, typed arrays, optional options, named results.
 declare const canvas: HTMLCanvasElement;
