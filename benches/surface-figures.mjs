@@ -5,7 +5,12 @@
 //   docs/surface-blend.png   the glTF tail at the midway curl (weight 0.5 of its 180° curl
 //                            pose): three.js's morph targets (a linear blend) on the left,
 //                            bunraku's SurfaceBlender (Kaji) on the right, each labelled with
-//                            its volume change.
+//                            its volume change;
+//   docs/surface-deform.png  the page's drag mode: one vertex on the tail's side (on its uv
+//                            seam) poked outwards by 0.51 with SurfaceDeformer, the base
+//                            held: plain harmonic deformation (β = 0, a spike) on the left,
+//                            the regularised default on the right, each labelled with its
+//                            volume change and max isometric error.
 //
 // The page's TypeScript is bundled here with esbuild (`bunraku` resolved to dist/, its wasm
 // served from pkg/), not built with Vite, so that the script needs no npm install; the page
@@ -27,9 +32,13 @@ const EXAMPLE = `${ROOT}examples/three-surfaces/`;
 const ORIGIN = "http://bunraku-surfaces.test";
 const LIMIT = 150 * 1024;
 
-/** The figures: the sliders' weights, and what the page shows then. */
+/** The figures: what the page is asked to show (through its `window.__surfaces` hooks). */
 const FIGURES = {
-  "surface-blend": { weights: [0.5, 0, 0] },
+  "surface-blend": () => window.__surfaces.set([0.5, 0, 0]),
+  "surface-deform": () => {
+    window.__surfaces.mode("drag", "point");
+    return window.__surfaces.drag(30, 0);
+  },
 };
 
 /** The example's script as one ES module: `bunraku` from dist/, three from node_modules,
@@ -78,15 +87,14 @@ try {
   await tab.goto(`${ORIGIN}/?antialias`);
   await tab.waitForFunction(() => document.querySelector("#status")?.dataset.state === "ready" || document.querySelector("#status")?.dataset.state === "error", null, { timeout: 120_000 });
   if (errors.length) throw new Error(errors.join("\n"));
-  for (const [name, { weights }] of Object.entries(FIGURES)) {
-    const readout = await tab.evaluate((w) => window.__surfaces.set(w), weights);
+  for (const [name, show] of Object.entries(FIGURES)) {
+    const readout = await tab.evaluate(show);
     // Two frames, so that what was drawn is on screen.
     await tab.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
     const shot = PNG.sync.read(await tab.locator("#views").screenshot());
     const png = PNG.sync.write(shot, { deflateLevel: 9 });
     writeFileSync(`${ROOT}docs/${name}.png`, png);
-    const volumes = `volume ${(100 * readout.volumeMorph).toFixed(1)}% (morph targets), ${(100 * readout.volumeKaji).toFixed(2)}% (Kaji)`;
-    console.log(`docs/${name}.png: ${shot.width} × ${shot.height}, ${(png.length / 1024).toFixed(1)} KB; weights ${weights}: ${volumes}`);
+    console.log(`docs/${name}.png: ${shot.width} × ${shot.height}, ${(png.length / 1024).toFixed(1)} KB; ${JSON.stringify(readout)}`);
     if (png.length > LIMIT) over.push(`docs/${name}.png is ${(png.length / 1024).toFixed(1)} KB`);
   }
   if (errors.length) throw new Error(errors.join("\n"));

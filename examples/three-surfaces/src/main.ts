@@ -7,10 +7,15 @@
 // split along the uv seam and at the caps, as exports are: the blender welds them, so the
 // seams stay closed.
 //
+// In drag mode (the radio buttons) the sliders rest and a drag on either view bends the tail
+// by a handle at its tip with bunraku's `SurfaceDeformer`, the base held: plain harmonic
+// guidance (β = 0) on the left, the regularised default on the right (src/drag.ts).
+//
 // For tests and scripts the page sets `window.__surfaces` (see `Hooks`).
 import init, { SurfaceBlender } from "bunraku";
 import wasmUrl from "bunraku/bunraku_bg.wasm?url";
 import * as THREE from "three";
+import { Drag, type DragReadout, type HandleKind } from "./drag";
 import { loadTail, stripes, volume } from "./model";
 
 /** What the page exposes for tests and the figure script. */
@@ -23,6 +28,14 @@ interface Hooks {
   animate(ms: number): Promise<Animation>;
   /** Records the animation frames' times for `ms` milliseconds while nothing changes. */
   idle(ms: number): Promise<number[]>;
+  /** Switches to `"blend"` or `"drag"` mode (as the radio buttons do; a drag starts at
+   *  rest), with the drag's `handle`. */
+  mode(mode: Mode, handle?: HandleKind): void;
+  /** In drag mode: deforms both sides as a drag of (`dx`, `dy`) CSS pixels from rest would,
+   *  and returns what they show. */
+  drag(dx: number, dy: number): DragReadout;
+  /** The last drag's readout (after a drag with the pointer). */
+  dragged(): DragReadout;
   /** The poses' names, in slider order. */
   names: string[];
   vertexCount: number;
@@ -49,6 +62,8 @@ interface Animation {
   seamGapMax: number;
 }
 
+type Mode = "blend" | "drag";
+
 declare global {
   interface Window {
     __surfaces?: Hooks;
@@ -62,6 +77,11 @@ const status = document.querySelector<HTMLElement>("#status")!;
 const sliders = [...document.querySelectorAll<HTMLInputElement>("#controls input[type=range]")];
 const volumeLeft = document.querySelector<HTMLElement>("#volume-left")!;
 const volumeRight = document.querySelector<HTMLElement>("#volume-right")!;
+const titleLeft = document.querySelector<HTMLElement>("#title-left")!;
+const titleRight = document.querySelector<HTMLElement>("#title-right")!;
+const modes = [...document.querySelectorAll<HTMLInputElement>("input[name=mode]")];
+const handleSelect = document.querySelector<HTMLSelectElement>("#handle")!;
+const hint = document.querySelector<HTMLElement>("#hint")!;
 
 await init({ module_or_path: wasmUrl });
 const tail = await loadTail("tail.glb");
@@ -156,18 +176,75 @@ function update(): void {
   volumeRight.textContent = percent(readout.volumeKaji);
 }
 
-/** Draws the two halves: the morph targets on the left, Kaji's blend on the right. */
+/** Whether the next frame updates and draws. */
+let dirty = true;
+
+// Drag mode: two deformers, β = 0 and the default, each with its own copy of the tail.
+const drag = new Drag(tail, material);
+scene.add(drag.plain, drag.regularised);
+let mode: Mode = "blend";
+/** The drag's offset from rest (CSS pixels), and where the pointer was pressed. */
+const offset = { dx: 0, dy: 0 };
+let press: { x: number; y: number; dx: number; dy: number } | null = null;
+let dragReadout: DragReadout | null = null;
+const measures = (r: { isometricMax: number; volumeChange: number }) => `${percent(r.volumeChange)}, max isometric error ${r.isometricMax.toFixed(3)}`;
+
+/** Deforms both drag sides for the current offset and shows what they measure. */
+function updateDrag(): DragReadout {
+  drag.update(offset.dx, offset.dy);
+  dragReadout = drag.measure();
+  volumeLeft.textContent = measures(dragReadout.plain);
+  volumeRight.textContent = measures(dragReadout.regularised);
+  return dragReadout;
+}
+
+/** Shows `next`'s meshes, titles and controls. */
+function setMode(next: Mode): void {
+  mode = next;
+  for (const s of sliders) s.disabled = mode === "drag";
+  offset.dx = offset.dy = 0;
+  if (mode === "drag") {
+    titleLeft.textContent = "SurfaceDeformer, β = 0 (plain harmonic)";
+    titleRight.textContent = `SurfaceDeformer, β = ${drag.regularization} (the default)`;
+    hint.textContent = "Drag on either view: the handle moves with the pointer (the tip's also turns as it goes sideways); the base is held.";
+  } else {
+    titleLeft.textContent = "three.js morph targets (linear)";
+    titleRight.textContent = "bunraku SurfaceBlender (Kaji)";
+    hint.textContent = "Both sides blend the same glTF morph targets by the same weights.";
+  }
+  dirty = true;
+}
+for (const m of modes) m.addEventListener("change", () => m.checked && setMode(m.value as Mode));
+handleSelect.addEventListener("change", () => {
+  drag.setHandle(handleSelect.value as HandleKind);
+  offset.dx = offset.dy = 0;
+  dirty = true;
+});
+canvas.addEventListener("pointerdown", (e) => {
+  if (mode !== "drag") return;
+  canvas.setPointerCapture(e.pointerId);
+  press = { x: e.clientX, y: e.clientY, dx: offset.dx, dy: offset.dy };
+});
+canvas.addEventListener("pointermove", (e) => {
+  if (!press) return;
+  offset.dx = press.dx + e.clientX - press.x;
+  offset.dy = press.dy + e.clientY - press.y;
+  dirty = true;
+});
+for (const type of ["pointerup", "pointercancel"]) canvas.addEventListener(type, () => (press = null));
+
+/** Draws the two halves: on the left the morph targets (or the plain deformer), on the right
+ *  Kaji's blend (or the regularised deformer). */
 function draw(): void {
-  for (const [mesh, x] of [[morphed, 0], [blended, SIDE]] as const) {
-    morphed.visible = mesh === morphed;
-    blended.visible = mesh === blended;
+  const shown = mode === "blend" ? [morphed, blended] : [drag.plain, drag.regularised];
+  for (const [k, x] of [[0, 0], [1, SIDE]] as const) {
+    for (const mesh of [morphed, blended, drag.plain, drag.regularised]) mesh.visible = mesh === shown[k];
     renderer.setViewport(x, 0, SIDE, SIDE);
     renderer.setScissor(x, 0, SIDE, SIDE);
     renderer.render(scene, camera);
   }
 }
 
-let dirty = true;
 let frames = 0;
 /** The running animation (from `animate`), if any. */
 let animation: (Animation & { start: number | null; ms: number; done: () => void }) | null = null;
@@ -185,7 +262,8 @@ renderer.setAnimationLoop((now) => {
     });
   }
   if (dirty) {
-    update();
+    if (mode === "blend") update();
+    else updateDrag();
     draw();
     dirty = false;
     if (animation) {
@@ -243,6 +321,24 @@ window.__surfaces = {
       };
       idlers.push(idler);
     });
+  },
+  mode(next, handle = "tip") {
+    const radio = modes.find((m) => m.value === next)!;
+    radio.checked = true;
+    radio.dispatchEvent(new Event("change"));
+    handleSelect.value = handle;
+    handleSelect.dispatchEvent(new Event("change"));
+  },
+  drag(dx, dy) {
+    offset.dx = dx;
+    offset.dy = dy;
+    const r = updateDrag();
+    draw();
+    dirty = false;
+    return r;
+  },
+  dragged() {
+    return dragReadout!;
   },
   names: tail.names,
   vertexCount: blender.vertexCount,
