@@ -34,11 +34,27 @@ const LIMIT = 150 * 1024;
 
 /** The figures: what the page is asked to show (through its `window.__surfaces` hooks). */
 const FIGURES = {
-  "surface-blend": () => window.__surfaces.set([0.5, 0, 0]),
+  "surface-blend": () => {
+    window.caption("halfway between the rest and the 180° curl (weight 0.5): both should bend 90°");
+    return window.__surfaces.set([0.5, 0, 0]);
+  },
   "surface-deform": () => {
+    window.caption("one vertex on the side pulled out by 0.51 (the tail is 4 long), the base held");
     window.__surfaces.mode("drag", "point");
     return window.__surfaces.drag(30, 0);
   },
+};
+/** In the page: a caption along the bottom of the views. */
+const CAPTION = () => {
+  window.caption = (text) => {
+    let el = document.querySelector("#caption");
+    if (!el) {
+      el = Object.assign(document.createElement("div"), { id: "caption" });
+      el.style.cssText = "position: absolute; left: 12px; bottom: 8px; font-size: 14px; color: #555";
+      document.querySelector("#views").append(el);
+    }
+    el.textContent = text;
+  };
 };
 
 /** The example's script as one ES module: `bunraku` from dist/, three from node_modules,
@@ -80,6 +96,7 @@ try {
     if (path === "/pkg/bunraku_bg.wasm") return file(`${ROOT}pkg/bunraku_bg.wasm`, "application/wasm");
     return route.fulfill({ status: 404, body: "not found" });
   });
+  await context.addInitScript(CAPTION);
   const tab = await context.newPage();
   const errors = [];
   tab.on("console", (m) => m.type() === "error" && errors.push(m.text()));

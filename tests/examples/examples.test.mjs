@@ -442,7 +442,8 @@ test("examples/three-surfaces type-checks, builds and runs in Chromium: three.js
     // The sliders animated every frame for 2 s. The 60 fps target (median frame interval ≤
     // 17.5 ms) is checked when the run is not starved: the machine's 1-minute load at most
     // its core count and the page's idle frames at the display's rate. Otherwise (a shared
-    // machine, WebGL on the CPU) only ≤ 50 ms, as the other frame tests; up to 3 tries.
+    // machine, WebGL on the CPU) only ≤ 50 ms, as the other frame tests. Up to 3 tries, until
+    // one meets the target.
     const cores = availableParallelism();
     let met = null;
     const tries = [];
@@ -457,7 +458,7 @@ test("examples/three-surfaces type-checks, builds and runs in Chromium: three.js
       assert.ok(animated.blends >= animated.times.length - 2, `every frame blends: ${animated.blends} blends, ${animated.times.length} frames`);
       assert.equal(animated.seamGapMax, 0, "the seams stay closed while animated");
       assert.ok(frame <= FRAME_STARVED, `median frame interval ${frame} ms`);
-      if (!starved && frame <= FRAME_TARGET) met = frame;
+      if (frame <= FRAME_TARGET) met = frame;
     }
     if (tries.some((r) => !r.starved)) assert.ok(met !== null, `60 fps missed on a machine not starved: ${JSON.stringify(tries)}`);
     assert.deepEqual(problems, []);

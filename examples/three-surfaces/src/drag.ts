@@ -85,7 +85,7 @@ export class Drag {
       const geometry = new THREE.BufferGeometry();
       geometry.setIndex(new THREE.BufferAttribute(tail.index, 1));
       geometry.setAttribute("position", new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage));
-      geometry.setAttribute("uv", tail.geometry.attributes.uv);
+      geometry.setAttribute("color", tail.geometry.attributes.color);
       const mesh = new THREE.Mesh(geometry, material);
       mesh.frustumCulled = false;
       return mesh;

@@ -100,7 +100,8 @@ weldMap.forEach((w, v) => (firstOfGroup[w] = Math.min(firstOfGroup[w], v)));
 // Flat shading: each triangle's normal comes from its blended positions in the shader, so
 // both sides are lit by their own shape (with the glTF's normals three.js would light the
 // morph targets as at rest, and the right side would need computeVertexNormals() a frame).
-const material = new THREE.MeshLambertMaterial({ map: stripes(), flatShading: true });
+const material = new THREE.MeshLambertMaterial({ vertexColors: true, flatShading: true });
+tail.geometry.setAttribute("color", stripes(tail.geometry.attributes.uv));
 const morphed = new THREE.Mesh(tail.geometry, material);
 const geometry = new THREE.BufferGeometry();
 geometry.setIndex(new THREE.BufferAttribute(tail.index, 1));
@@ -108,7 +109,7 @@ geometry.setIndex(new THREE.BufferAttribute(tail.index, 1));
 const positions = Float32Array.from(tail.rest);
 const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
 geometry.setAttribute("position", position);
-geometry.setAttribute("uv", tail.geometry.attributes.uv);
+geometry.setAttribute("color", tail.geometry.attributes.color);
 const blended = new THREE.Mesh(geometry, material);
 for (const mesh of [morphed, blended]) mesh.frustumCulled = false;
 
