@@ -14,8 +14,8 @@ import { volume } from "./model";
  *  deformation makes a spike). */
 export type HandleKind = "tip" | "point";
 
-/** One side after a drag: its largest isometric error ((σ1 − 1)² + (σ2 − 1)², from
- *  `surfaceQuality`) and its volume change against the rest. */
+/** One side after a drag, from `surfaceQuality`: its largest isometric error ((σ1 − 1)² +
+ *  (σ2 − 1)²) and its volume change against the rest (the tail is closed once welded). */
 export interface SideReadout {
   isometricMax: number;
   volumeChange: number;
@@ -123,7 +123,10 @@ export class Drag {
   measure(): DragReadout {
     const { rest, index } = this.tail;
     const V0 = volume(rest, index);
-    const side = (p: Float32Array): SideReadout => ({ isometricMax: surfaceQuality(rest, p, index).isometric.max, volumeChange: volume(p, index) / V0 - 1 });
+    const side = (p: Float32Array): SideReadout => {
+      const q = surfaceQuality(rest, p, index);
+      return { isometricMax: q.isometric.max, volumeChange: q.volumeChange ?? volume(p, index) / V0 - 1 };
+    };
     const moved = (p: Float32Array, v: number) => Math.hypot(p[3 * v] - rest[3 * v], p[3 * v + 1] - rest[3 * v + 1], p[3 * v + 2] - rest[3 * v + 2]);
     const h = this.handles[this.handle];
     let baseMoved = 0;
