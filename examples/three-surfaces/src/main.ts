@@ -34,8 +34,8 @@ interface Hooks {
   /** In drag mode: deforms both sides as a drag of (`dx`, `dy`) CSS pixels from rest would,
    *  and returns what they show. */
   drag(dx: number, dy: number): DragReadout;
-  /** The last drag's readout (after a drag with the pointer). */
-  dragged(): DragReadout;
+  /** The last drag's readout (after a drag with the pointer); null before any. */
+  dragged(): DragReadout | null;
   /** The poses' names, in slider order. */
   names: string[];
   vertexCount: number;
@@ -134,8 +134,9 @@ camera.position.set(2.4, 3.0, 10.2);
 camera.lookAt(1.2, 2.0, 0.8);
 
 const V0 = volume(tail.rest, tail.index);
-// Kaji's blend is defined up to a translation (the blender places it by the poses' centroids):
-// the page moves the right side so that the tail's base stays where both sides start.
+// Kaji's blend is defined up to a translation, and the blender moves the surface's centroid
+// linearly (c₀ + Σ wₖ (cₖ − c₀)): the page moves the right side so that the tail's base stays
+// where both sides start.
 const base: number[] = [];
 for (let v = 0; v < tail.rest.length / 3; v++) if (tail.rest[3 * v + 1] === 0) base.push(v);
 const weights = new Float64Array(tail.poses.length);
@@ -339,7 +340,7 @@ window.__surfaces = {
     return r;
   },
   dragged() {
-    return dragReadout!;
+    return dragReadout;
   },
   names: tail.names,
   vertexCount: blender.vertexCount,
