@@ -12,24 +12,22 @@
 //                            the regularised default on the right, each labelled with its
 //                            volume change and max isometric error.
 //
-// The page's TypeScript is bundled here with esbuild (`bunraku` resolved to dist/, its wasm
-// served from pkg/), not built with Vite, so that the script needs no npm install; the page
-// is opened with `?antialias`. Each figure is a screenshot of the page's views, written with
-// deflate level 9; the script prints its size and fails if one is over 150 KB.
+// The page's TypeScript is bundled with esbuild, not built with Vite, so that the script
+// needs no npm install (benches/_surface-page.mjs); the page is opened with `?antialias`.
+// Each figure is a screenshot of the page's views, written with deflate level 9; the script
+// prints its size and fails if one is over 150 KB.
 //
 //   node scripts/build-gl.mjs && node benches/surface-figures.mjs
 
-import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
+import { mkdirSync, writeFileSync } from "node:fs";
 import { fileURLToPath } from "node:url";
-import { build } from "esbuild";
 import { PNG } from "pngjs";
 import { chromium } from "playwright-core";
-import { buildGL, GL_DIST } from "../scripts/build-gl.mjs";
+import { buildGL } from "../scripts/build-gl.mjs";
 import { CHROMIUM, CHROMIUM_ARGS } from "../tests/browser/_harness.mjs";
+import { openSurfacePage } from "./_surface-page.mjs";
 
 const ROOT = fileURLToPath(new URL("../", import.meta.url));
-const EXAMPLE = `${ROOT}examples/three-surfaces/`;
-const ORIGIN = "http://bunraku-surfaces.test";
 const LIMIT = 150 * 1024;
 
 /** The figures: what the page is asked to show (through its `window.__surfaces` hooks). */
@@ -57,53 +55,12 @@ const CAPTION = () => {
   };
 };
 
-/** The example's script as one ES module: `bunraku` from dist/, three from node_modules,
- *  and Vite's `?url` import of the wasm as its URL on this origin. */
-async function bundle() {
-  const result = await build({
-    entryPoints: [`${EXAMPLE}src/main.ts`],
-    bundle: true,
-    format: "esm",
-    target: "es2022",
-    write: false,
-    logLevel: "error",
-    plugins: [{
-      name: "bunraku",
-      setup(b) {
-        b.onResolve({ filter: /^bunraku\/bunraku_bg\.wasm\?url$/ }, () => ({ path: "wasm-url", namespace: "bunraku" }));
-        b.onLoad({ filter: /.*/, namespace: "bunraku" }, () => ({ contents: 'export default "/pkg/bunraku_bg.wasm";', loader: "js" }));
-        b.onResolve({ filter: /^bunraku$/ }, () => ({ path: `${GL_DIST}/index.js` }));
-      },
-    }],
-  });
-  return result.outputFiles[0].contents;
-}
-
 buildGL({ log: (line) => console.log(line) });
-const script = await bundle();
-const html = readFileSync(`${EXAMPLE}index.html`, "utf8").replace('src="/src/main.ts"', 'src="/main.js"');
 mkdirSync(`${ROOT}docs`, { recursive: true });
 const browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
 const over = [];
 try {
-  const context = await browser.newContext({ viewport: { width: 900, height: 640 }, deviceScaleFactor: 1 });
-  await context.route(`${ORIGIN}/**`, (route) => {
-    const path = new URL(route.request().url()).pathname;
-    const file = (p, type) => route.fulfill({ contentType: type, body: readFileSync(p) });
-    if (path === "/") return route.fulfill({ contentType: "text/html", body: html });
-    if (path === "/main.js") return route.fulfill({ contentType: "text/javascript", body: Buffer.from(script) });
-    if (path === "/tail.glb") return file(`${EXAMPLE}public/tail.glb`, "model/gltf-binary");
-    if (path === "/pkg/bunraku_bg.wasm") return file(`${ROOT}pkg/bunraku_bg.wasm`, "application/wasm");
-    return route.fulfill({ status: 404, body: "not found" });
-  });
-  await context.addInitScript(CAPTION);
-  const tab = await context.newPage();
-  const errors = [];
-  tab.on("console", (m) => m.type() === "error" && errors.push(m.text()));
-  tab.on("pageerror", (e) => errors.push(e.message));
-  await tab.goto(`${ORIGIN}/?antialias`);
-  await tab.waitForFunction(() => document.querySelector("#status")?.dataset.state === "ready" || document.querySelector("#status")?.dataset.state === "error", null, { timeout: 120_000 });
-  if (errors.length) throw new Error(errors.join("\n"));
+  const { page: tab, context, errors } = await openSurfacePage(browser, { query: "?antialias", initScript: CAPTION });
   for (const [name, show] of Object.entries(FIGURES)) {
     const readout = await tab.evaluate(show);
     // Two frames, so that what was drawn is on screen.
