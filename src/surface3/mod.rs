@@ -39,9 +39,11 @@
 //! * **Edge and vertex tetrisations** (\[K\] §4.2–4.3) are not built yet.
 
 mod blender;
+mod ghosts;
 mod kernel3;
 pub mod mesh3;
 mod stitch3;
+mod stitch_tets;
 mod tetrise;
 mod unwrap3;
 
