@@ -185,7 +185,8 @@ impl SurfaceBlender {
     /// The stitching matrix after the ghosts' elimination, without the translation pins:
     /// upper-triangle triplets `(row ≤ column, value)` on welded vertices, one per
     /// triangle and pair of its corners (duplicates not summed). In face mode it is the
-    /// surface's cotangent stiffness matrix (`surfaces.md` §1.6).
+    /// surface's cotangent stiffness matrix (`surfaces.md` §1.6). The edge and vertex
+    /// tetrisations stitch with their own matrix (ghosts as unknowns); this stays the face one.
     pub fn stitching_matrix(&self) -> Vec<(u32, u32, f64)> {
         self.stitch.matrix(self.surface.triangles())
     }

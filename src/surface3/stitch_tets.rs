@@ -52,7 +52,12 @@ impl TetStitch {
     /// The tetrahedra of `mode`, `K` assembled with one pin per component (`component`:
     /// each vertex's, numbered by first vertex), ordered and factorised. `shape`: keep room
     /// for `E_S`.
-    pub(crate) fn new(surface: &Surface3, mode: Tetrisation, component: &[u32], shape: bool) -> Result<TetStitch> {
+    pub(crate) fn new(
+        surface: &Surface3,
+        mode: Tetrisation,
+        component: &[u32],
+        shape: bool,
+    ) -> Result<TetStitch> {
         let tets = Tets::new(surface, mode)?;
         let (p, tris) = (surface.vertices(), surface.triangles());
         let n = p.len();
@@ -160,7 +165,11 @@ impl TetStitch {
         let (starts, adjacency) = (&self.starts, &self.adjacency);
         let neighbours = |t: usize| &adjacency[starts[t] as usize..starts[t + 1] as usize];
         walk(&mut omega, neighbours, anchor, reference);
-        Ok(omega.iter().zip(&stretch).map(|(w, l)| [w[0], w[1], w[2], l[0], l[1], l[2], l[3], l[4], l[5]]).collect())
+        Ok(omega
+            .iter()
+            .zip(&stretch)
+            .map(|(w, l)| [w[0], w[1], w[2], l[0], l[1], l[2], l[3], l[4], l[5]])
+            .collect())
     }
 
     /// Blend_C of every tetrahedron with the `active` `(pose, weight)` pairs of `logs`, the

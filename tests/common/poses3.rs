@@ -105,4 +105,3 @@ pub fn max_distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
         .map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt())
         .fold(0.0, f64::max)
 }
-
