@@ -121,7 +121,7 @@ fn main() {
     println!("| tetrisation | tetrahedra | register (ms) | blend_into, 2 poses (ms) |");
     println!("|---|---:|---:|---:|");
     println!("| face | {t} | {reg:.1} | {x:.3} |");
-    for mode in [Tetrisation::Edge, Tetrisation::Vertex] {
+    for (name, mode) in [("edge", Tetrisation::Edge), ("vertex", Tetrisation::Vertex)] {
         let options = SurfaceOptions { tetrisation: mode, ..Default::default() };
         let mut registers = Vec::new();
         let mut b = None;
@@ -135,6 +135,6 @@ fn main() {
         b.add_pose(&twisted).unwrap();
         let blends = (0..reps).map(|f| ms(|| b.blend_into(&[0.5, 0.01 * f as f64], &mut out).unwrap()));
         let blend = median(blends.collect());
-        println!("| {mode:?} | {} | {:.1} | {blend:.3} |", b.tetrahedron_count(), median(registers));
+        println!("| {name} | {} | {:.1} | {blend:.3} |", b.tetrahedron_count(), median(registers));
     }
 }

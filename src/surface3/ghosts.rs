@@ -108,7 +108,7 @@ pub(crate) fn place(ghost: Ghost, p: &[[f64; 3]], triangles: &[[u32; 3]], fans: 
 /// `base + length · sum/|sum|`, or `base` when `|sum| ≤ UNDEFINED · count`.
 fn offset(base: [f64; 3], sum: [f64; 3], length: f64, count: usize) -> ([f64; 3], bool) {
     let s = norm(sum);
-    if !(s > UNDEFINED * count as f64) {
+    if s.is_nan() || s <= UNDEFINED * count as f64 {
         return (base, false);
     }
     (add(base, sum, length / s), true)
@@ -124,7 +124,8 @@ pub(crate) fn frame(p: &[[f64; 3]], tri: [u32; 3], g: [f64; 3]) -> Mat3 {
 /// Whether the rest frame is singular (relative to its columns' lengths).
 fn singular(m: &Mat3) -> bool {
     let col = |j: usize| (m[0][j] * m[0][j] + m[1][j] * m[1][j] + m[2][j] * m[2][j]).sqrt();
-    !(det(m).abs() > SINGULAR * col(0) * col(1) * col(2))
+    let d = det(m).abs();
+    d.is_nan() || d <= SINGULAR * col(0) * col(1) * col(2)
 }
 
 impl Tets {

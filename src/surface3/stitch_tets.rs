@@ -185,6 +185,7 @@ impl TetStitch {
     ) {
         self.solution.fill(Triple::default());
         let shape = !self.blended.is_empty();
+        #[allow(clippy::needless_range_loop)] // `k` indexes every pose's logs and the tetrahedra
         for k in 0..self.tets.tets.len() {
             let mut g = [0.0; 9];
             for &(pose, w) in active {
