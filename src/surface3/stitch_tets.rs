@@ -287,3 +287,92 @@ fn face_adjacency(tets: &[(u32, u32)], tris: &[[u32; 3]], n: usize) -> (Vec<u32>
     }
     (starts, pairs.into_iter().map(|(_, b)| b).collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface3::ghosts::place;
+
+    /// A bumpy open sheet, 4 × 3 squares.
+    fn sheet() -> Surface3 {
+        let mut v = Vec::new();
+        for i in 0..5 {
+            for j in 0..4 {
+                let (x, y) = (i as f64 * 0.3 + 0.07 * j as f64, j as f64 * 0.25);
+                v.push([x, y, 0.3 * (2.0 * x).sin() * (3.0 * y).cos()]);
+            }
+        }
+        let mut t = Vec::new();
+        for i in 0..4u32 {
+            for j in 0..3u32 {
+                let (a, b, c, d) = (i * 4 + j, (i + 1) * 4 + j, (i + 1) * 4 + j + 1, i * 4 + j + 1);
+                t.push([a, b, c]);
+                t.push([a, c, d]);
+            }
+        }
+        Surface3::new(v, t).unwrap()
+    }
+
+    #[test]
+    fn the_solve_minimises_the_weighted_tetrahedron_energy() {
+        // E_T written out from the rest geometry (each tet's map from its rest frame, weight
+        // = triangle area / tets on it) has a vanishing finite-difference gradient, ghosts
+        // included, at the solution of K X = R for arbitrary targets.
+        let surface = sheet();
+        let (p, tris) = (surface.vertices(), surface.triangles());
+        let component = vec![0u32; p.len()];
+        for mode in [Tetrisation::Edge, Tetrisation::Vertex] {
+            let mut s = TetStitch::new(&surface, mode, &component, false).unwrap();
+            let c: Vec<Mat3> = (0..s.len())
+                .map(|k| {
+                    let x = k as f64;
+                    [
+                        [1.0 + 0.1 * x.sin(), 0.3 * x.cos(), -0.2],
+                        [0.1, 0.9, 0.4 * (2.0 * x).sin()],
+                        [-0.3, 0.2, 1.1],
+                    ]
+                })
+                .collect();
+            s.solution.fill(Triple::default());
+            for (k, ck) in c.iter().enumerate() {
+                s.scatter(k, tris, ck);
+            }
+            s.factor.solve_in_place(&s.symbolic, &mut s.solution, &mut s.work);
+            let mut count = vec![0.0; tris.len()];
+            for &(_, t) in &s.tets.tets {
+                count[t as usize] += 1.0;
+            }
+            let rest_ghosts: Vec<[f64; 3]> =
+                s.tets.ghosts.iter().map(|&g| place(g, p, tris, &s.tets.fans).0).collect();
+            let energy = |x: &[Triple]| -> f64 {
+                let pts: Vec<[f64; 3]> = x.iter().map(|t| t.0).collect();
+                let mut e = 0.0;
+                for (k, &(g, t)) in s.tets.tets.iter().enumerate() {
+                    let tri = tris[t as usize];
+                    let rest = frame(p, tri, rest_ghosts[g as usize]);
+                    let now = frame(&pts, tri, pts[p.len() + g as usize]);
+                    let map = mul(&now, &inverse(&rest).unwrap());
+                    let [a, b, cc] = tri.map(|v| p[v as usize]);
+                    let w = 0.5 * norm(cross(sub(b, a), sub(cc, a))) / count[t as usize];
+                    e += w * (0..9).map(|i| (map[i / 3][i % 3] - c[k][i / 3][i % 3]).powi(2)).sum::<f64>();
+                }
+                e
+            };
+            let x = s.solution.clone();
+            let h = 1e-6;
+            for unknown in 0..x.len() {
+                for d in 0..3 {
+                    let (mut plus, mut minus) = (x.clone(), x.clone());
+                    plus[unknown].0[d] += h;
+                    minus[unknown].0[d] -= h;
+                    let fd = (energy(&plus) - energy(&minus)) / (2.0 * h);
+                    assert!(fd.abs() < 1e-6, "{mode:?} unknown {unknown} axis {d}: {fd}");
+                }
+            }
+            // And the energy is not flat: a move off the solution raises it.
+            let mut off = x.clone();
+            off[1].0[0] += 0.05;
+            assert!(energy(&off) > energy(&x) + 1e-6, "{mode:?}");
+        }
+    }
+}
