@@ -8,11 +8,14 @@
 //! table, then the targets (stated for release wasm; these are native figures) as
 //! met or not.
 //!
+//! A second table: the edge and vertex tetrisations (ghosts as unknowns), register and a
+//! blend of 2 poses under `E_T`, medians.
+//!
 //! `cargo bench --bench surface_blend` (add `-- --quick` for fewer repetitions).
 
 use std::f64::consts::PI;
 
-use bunraku::surface3::{Stitch, SurfaceBlender, SurfaceOptions};
+use bunraku::surface3::{Stitch, SurfaceBlender, SurfaceOptions, Tetrisation};
 
 mod common;
 use common::*;
@@ -114,4 +117,24 @@ fn main() {
     let met = |ok: bool| if ok { "met" } else { "not met" };
     println!("- register ≤ 300 ms (wasm target): {} natively ({reg:.1} ms)", met(reg <= 300.0));
     println!("- blend_into of 2 poses ≤ 8 ms (wasm target): {} natively ({x:.3} ms)", met(x <= 8.0));
+    println!();
+    println!("| tetrisation | tetrahedra | register (ms) | blend_into, 2 poses (ms) |");
+    println!("|---|---:|---:|---:|");
+    println!("| face | {t} | {reg:.1} | {x:.3} |");
+    for (name, mode) in [("edge", Tetrisation::Edge), ("vertex", Tetrisation::Vertex)] {
+        let options = SurfaceOptions { tetrisation: mode, ..Default::default() };
+        let mut registers = Vec::new();
+        let mut b = None;
+        for _ in 0..if quick { 1 } else { 3 } {
+            registers.push(ms(|| {
+                b = Some(SurfaceBlender::register(rest.clone(), tris.clone(), options).unwrap())
+            }));
+        }
+        let mut b = b.unwrap();
+        b.add_pose(&bent).unwrap();
+        b.add_pose(&twisted).unwrap();
+        let blends = (0..reps).map(|f| ms(|| b.blend_into(&[0.5, 0.01 * f as f64], &mut out).unwrap()));
+        let blend = median(blends.collect());
+        println!("| {name} | {} | {:.1} | {blend:.3} |", b.tetrahedron_count(), median(registers));
+    }
 }

@@ -4,6 +4,7 @@
 use super::kernel3::{exp_rotation, exp_sym, log_rotation, log_sym, mul, polar, Mat3};
 use super::mesh3::{check_points, Surface3};
 use super::stitch3::{Stitch3, Triple};
+use super::stitch_tets::TetStitch;
 use super::tetrise::{face_map, Tetrisation};
 use super::unwrap3::unwrap;
 use crate::blend::{MAX_ITERATIONS, MAX_REFERENCE_ANGLE, MAX_WEIGHT};
@@ -28,7 +29,7 @@ pub enum Stitch {
 /// Options of [`SurfaceBlender::register`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SurfaceOptions {
-    /// The tetrisation ([`Tetrisation::Face`], the default; the others are not built yet).
+    /// The tetrisation ([`Tetrisation::Face`], the default).
     pub tetrisation: Tetrisation,
     /// The stitching ([`Stitch::Rigid`], the default).
     pub stitch: Stitch,
@@ -68,6 +69,9 @@ pub struct SurfaceBlender {
     scratch: Vec<[f64; 3]>,
     /// Per triangle, the blended map `C_t` and stretch `S(C_t)` (`E_S` only; else empty).
     blended: Vec<(Mat3, Mat3)>,
+    /// Edge and vertex tetrisations: the stitching with ghost unknowns (`logs` are then
+    /// per tetrahedron); `None` in face mode.
+    tets: Option<Box<TetStitch>>,
 }
 
 impl SurfaceBlender {
@@ -75,21 +79,16 @@ impl SurfaceBlender {
     /// [`Surface3::new`]): eliminates the ghosts, assembles, orders and factorises the
     /// stitching matrix once.
     ///
-    /// Errors: those of [`Surface3::new`]; [`Error::BadOption`] for a tetrisation not
-    /// built yet, `iterations` above [`MAX_ITERATIONS`], or an `anchor` that is not a
-    /// triangle index.
+    /// Errors: those of [`Surface3::new`]; [`Error::BadOption`] for `iterations` above
+    /// [`MAX_ITERATIONS`] or an `anchor` that is not a triangle index; edge and vertex
+    /// tetrisations: [`Error::NonManifoldEdge`] (an edge in three or more triangles) and,
+    /// vertex mode, [`Error::BadOption`] for `tetrisation` naming a vertex whose triangles
+    /// form separate fans.
     pub fn register(
         vertices: Vec<[f64; 3]>,
         triangles: Vec<[u32; 3]>,
         options: SurfaceOptions,
     ) -> Result<SurfaceBlender> {
-        if options.tetrisation != Tetrisation::Face {
-            return Err(Error::BadOption {
-                name: "tetrisation",
-                value: None,
-                reason: "is not built yet: only the face tetrisation is".into(),
-            });
-        }
         let iterations = match options.stitch {
             Stitch::Rigid => 0,
             Stitch::Shape { iterations } => iterations,
@@ -113,7 +112,12 @@ impl SurfaceBlender {
         let mut rest_centroids = vec![[0.0; 3]; stitch.component_count()];
         stitch.centroids(surface.vertices().iter().copied(), &mut rest_centroids);
         let (n, c, t) = (surface.vertices().len(), stitch.component_count(), surface.triangles().len());
-        let blended = if iterations > 0 { vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); t] } else { Vec::new() };
+        let tets = match options.tetrisation {
+            Tetrisation::Face => None,
+            mode => Some(Box::new(TetStitch::new(&surface, mode, &stitch.component, iterations > 0)?)),
+        };
+        let face_shape = iterations > 0 && tets.is_none();
+        let blended = if face_shape { vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); t] } else { Vec::new() };
         Ok(SurfaceBlender {
             surface,
             options,
@@ -127,7 +131,28 @@ impl SurfaceBlender {
             targets: vec![[0.0; 3]; c],
             scratch: vec![[0.0; 3]; c],
             blended,
+            tets,
         })
+    }
+
+    /// The number of tetrahedra: one per triangle in face mode; in edge and vertex modes,
+    /// those of \[K\] §4.2–4.3 plus the face-ghost fallbacks.
+    pub fn tetrahedron_count(&self) -> usize {
+        self.tets.as_ref().map_or(self.surface.triangles().len(), |t| t.len())
+    }
+
+    /// The ghosts of the edge or vertex tetrisation undefined at rest (a fin, normals
+    /// cancelling around a vertex) or in the plane of one of their triangles, replaced by
+    /// face ghosts on the triangles they served (0 in face mode).
+    pub fn fallback_ghosts(&self) -> usize {
+        self.tets.as_ref().map_or(0, |t| t.tets.fallbacks)
+    }
+
+    /// The triangles with no tetrahedron of the edge or vertex tetrisation (no interior
+    /// edge, or no vertex shared with another triangle: an isolated triangle), given a face
+    /// ghost instead (0 in face mode).
+    pub fn lone_triangles(&self) -> usize {
+        self.tets.as_ref().map_or(0, |t| t.tets.lone)
     }
 
     /// [`SurfaceBlender::register`] from flat arrays `[x0, y0, z0, x1, …]` and
@@ -160,7 +185,8 @@ impl SurfaceBlender {
     /// The stitching matrix after the ghosts' elimination, without the translation pins:
     /// upper-triangle triplets `(row ≤ column, value)` on welded vertices, one per
     /// triangle and pair of its corners (duplicates not summed). In face mode it is the
-    /// surface's cotangent stiffness matrix (`surfaces.md` §1.6).
+    /// surface's cotangent stiffness matrix (`surfaces.md` §1.6). The edge and vertex
+    /// tetrisations stitch with their own matrix (ghosts as unknowns); this stays the face one.
     pub fn stitching_matrix(&self) -> Vec<(u32, u32, f64)> {
         self.stitch.matrix(self.surface.triangles())
     }
@@ -194,6 +220,10 @@ impl SurfaceBlender {
         check_points("positions", positions)?;
         let mut welded = Vec::new();
         self.surface.welded_positions(positions, &mut welded);
+        if let Some(tets) = &self.tets {
+            let logs = tets.pose_logs(&self.surface, &welded, self.options.anchor, r)?;
+            return Ok(self.push_pose(logs, &welded));
+        }
         let tris = self.surface.triangles();
         let mut omega = Vec::with_capacity(tris.len());
         let mut stretch = Vec::with_capacity(tris.len());
@@ -223,6 +253,11 @@ impl SurfaceBlender {
             .zip(&stretch)
             .map(|(w, l)| [w[0], w[1], w[2], l[0], l[1], l[2], l[3], l[4], l[5]])
             .collect();
+        Ok(self.push_pose(logs, &welded))
+    }
+
+    /// Stores a pose's logarithms and centroid shifts; its index.
+    fn push_pose(&mut self, logs: Vec<[f64; 9]>, welded: &[[f64; 3]]) -> usize {
         let mut shift = vec![[0.0; 3]; self.rest_centroids.len()];
         self.stitch.centroids(welded.iter().copied(), &mut shift);
         for (s, c) in shift.iter_mut().zip(&self.rest_centroids) {
@@ -231,7 +266,7 @@ impl SurfaceBlender {
         self.logs.push(logs);
         self.shifts.push(shift);
         self.active.reserve(self.logs.len());
-        Ok(self.logs.len() - 1)
+        self.logs.len() - 1
     }
 
     /// Removes pose `index`; the poses after it move down by one. Errors:
@@ -310,6 +345,15 @@ impl SurfaceBlender {
             for (t, s) in self.targets.iter_mut().zip(&self.shifts[k]) {
                 *t = [t[0] + w * s[0], t[1] + w * s[1], t[2] + w * s[2]];
             }
+        }
+        if let Some(tets) = self.tets.as_mut() {
+            let iterations = match self.options.stitch {
+                Stitch::Rigid => 0,
+                Stitch::Shape { iterations } => iterations,
+            };
+            tets.blend(self.surface.triangles(), &self.logs, &self.active, iterations, &mut self.positions);
+            self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
+            return Ok(());
         }
         // Blend_C and the right-hand side.
         self.rhs.fill(Triple::default());

@@ -20,9 +20,11 @@
 //! |---|---|---|
 //! | `mesh3` | [`Surface3`]: validation (open, closed, several components), welding of seam duplicates | |
 //! | `tetrise` | [`Tetrisation`]: the face ghost, each tetrahedron's map from rest | §4.1, eq. 1–2 |
+//! | `ghosts` | the edge and vertex ghosts, their tetrahedra, face-ghost fallbacks, per-mode checks | §4.2–4.3 |
 //! | `kernel3` | polar decomposition, rotation log/exp (Rodrigues), symmetric log/exp | §5, eq. 3 |
-//! | `unwrap3` | the continuous logarithm `log^c` over the triangle adjacency, from an anchor | §5 |
-//! | `stitch3` | `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
+//! | `unwrap3` | the continuous logarithm `log^c` over the triangle (or tetrahedron) adjacency, from an anchor | §5 |
+//! | `stitch3` | face mode: `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
+//! | `stitch_tets` | edge and vertex modes: `E_T` and `E_S` with the ghosts as unknowns | §6, eq. 4–5 |
 //! | `blender` | [`SurfaceBlender`] | §3 |
 //! | `harmonic` | rest hat-function gradients, cotangent stiffness, the harmonic fields | \[H\] eq. 2–3, \[Z\] §3 |
 //! | `regularise3` | the energy's triangle and edge terms, plain and aligned operators | \[H\] eq. 6–10 |
@@ -51,10 +53,22 @@
 //!   default, or the caller's [`SurfaceOptions::anchor`] and
 //!   [`SurfacePoseOptions::reference`]).
 //! * **Welding** of vertices split along uv or normal seams ([`mesh3::WELD_TOLERANCE`]).
-//! * **Edge and vertex tetrisations** (\[K\] §4.2–4.3) are not built yet.
+//! * **Edge and vertex tetrisations** (\[K\] §4.2–4.3, `ghosts`): the ghosts stay unknowns
+//!   of the stitching, as in \[K\]'s code (not eliminated: elimination fills the matrix in),
+//!   `E_T` weighted by the rest area of each tetrahedron's triangle shared among the
+//!   tetrahedra on it; `log^c` walks the tetrahedra across shared faces from the anchor
+//!   triangle's first tetrahedron. A triangle with no tetrahedron of its mode (an isolated
+//!   triangle) and the triangles of a ghost undefined at rest (`|Σ n| ≈ 0`: a fin, normals
+//!   cancelling) get face ghosts ([`SurfaceBlender::lone_triangles`],
+//!   [`SurfaceBlender::fallback_ghosts`]). Edge mode refuses edges of three or more
+//!   triangles, vertex mode those and vertices whose triangles form separate fans (the
+//!   latter as [`crate::Error::BadOption`] on `tetrisation`, naming the vertex). Their
+//!   registration also builds the face-mode stitching (for the components' centroids),
+//!   one more factorisation.
 
 mod blender;
 mod deformer;
+mod ghosts;
 mod harmonic;
 mod kernel3;
 pub mod mesh3;
@@ -63,6 +77,7 @@ mod reduced;
 mod regions;
 mod regularise3;
 mod stitch3;
+mod stitch_tets;
 mod tetrise;
 mod unwrap3;
 

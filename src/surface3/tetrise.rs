@@ -18,11 +18,11 @@ pub enum Tetrisation {
     /// cotangent stiffness matrix).
     #[default]
     Face,
-    /// One ghost per interior edge (\[K\] §4.2). Not built yet: refused with
-    /// [`crate::Error::BadOption`].
+    /// One ghost per interior edge, two tetrahedra per such edge (\[K\] §4.2; see
+    /// `ghosts` for the face-ghost fallbacks).
     Edge,
-    /// One ghost per vertex of two or more triangles (\[K\] §4.3). Not built yet: refused
-    /// with [`crate::Error::BadOption`].
+    /// One ghost per vertex of two or more triangles, one tetrahedron per vertex and
+    /// triangle around it (\[K\] §4.3).
     Vertex,
 }
 

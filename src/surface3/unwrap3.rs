@@ -1,6 +1,7 @@
 //! The continuous logarithm `log^c` of the tetrahedra's rotations (\[K\] §5; research note
 //! `surfaces.md` §1.4 item 3): each rotation's axis–angle vector `ω` has the branches
-//! `â (θ + 2πk)`; walking the triangles breadth-first across shared edges, each takes the
+//! `â (θ + 2πk)`; walking the triangles breadth-first across shared edges (in the edge and
+//! vertex tetrisations, the tetrahedra across shared faces: [`walk`]), each takes the
 //! branch nearest its parent's, so that a twist of 270° reads 3π/2 at its far end, not −π/2.
 //!
 //! **Anchor.** Each edge-connected piece of the surface starts at one triangle, whose
@@ -45,6 +46,18 @@ pub(crate) fn nearest(omega: [f64; 3], target: [f64; 3]) -> [f64; 3] {
 /// Unwraps the principal rotation vectors `omega` (one per triangle) in place: see the
 /// module documentation. `anchor`: the caller's start triangle (checked by the caller).
 pub(crate) fn unwrap(surface: &Surface3, omega: &mut [[f64; 3]], anchor: Option<usize>, reference: [f64; 3]) {
+    walk(omega, |t| surface.neighbours(t), anchor, reference);
+}
+
+/// Unwraps `omega` (one per element: a triangle, or a tetrahedron in the edge and vertex
+/// tetrisations, whose `neighbours` are those sharing a face) in place, breadth-first from
+/// `anchor`, then from each remaining piece's least-rotated element.
+pub(crate) fn walk<'a>(
+    omega: &mut [[f64; 3]],
+    neighbours: impl Fn(usize) -> &'a [u32],
+    anchor: Option<usize>,
+    reference: [f64; 3],
+) {
     let t = omega.len();
     let len2 = |w: &[f64; 3]| w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     let mut roots: Vec<usize> = (0..t).collect();
@@ -59,7 +72,7 @@ pub(crate) fn unwrap(surface: &Surface3, omega: &mut [[f64; 3]], anchor: Option<
         omega[root] = nearest(omega[root], reference);
         queue.push_back(root);
         while let Some(p) = queue.pop_front() {
-            for &q in surface.neighbours(p) {
+            for &q in neighbours(p) {
                 let q = q as usize;
                 if !visited[q] {
                     visited[q] = true;

@@ -21,7 +21,11 @@ const SURFACE_TS: &str = r#"
 /** Options of `SurfaceBlender.register`. */
 export interface SurfaceBlendOptions {
   /** How each triangle becomes a tetrahedron: `"face"` (the default, one ghost vertex above each
-   *  triangle). `"edge"` and `"vertex"` (Kaji §4.2–4.3) are not built yet: `bad-option`. */
+   *  triangle), `"edge"` (Kaji §4.2: a ghost above each edge of two triangles, which must then
+   *  be at most two per edge: else `non-manifold-edge`) or `"vertex"` (§4.3: a ghost above each
+   *  vertex of two or more triangles, whose triangles must form one fan: else `bad-option`
+   *  naming the vertex). In both, a triangle with no ghost of its mode, or whose ghost is
+   *  undefined at rest (a fin), gets a face ghost (`fallbackGhosts`, `loneTriangles`). */
   tetrisation?: "face" | "edge" | "vertex";
   /** How the blended tetrahedra are stitched into positions: `"rigid"` (the default, `E_T`: one
    *  back-substitution per blend) or `"shape"` (`E_S`, rotation-invariant: `iterations` more). */
@@ -162,7 +166,7 @@ impl JsSurfaceBlender {
         Uint32Array::from(self.blender.surface().weld_map())
     }
 
-    /// The tetrisation (`"face"`).
+    /// The tetrisation: `"face"`, `"edge"` or `"vertex"`.
     #[wasm_bindgen(getter, unchecked_return_type = "\"face\" | \"edge\" | \"vertex\"")]
     pub fn tetrisation(&self) -> String {
         match self.blender.options().tetrisation {
@@ -171,6 +175,28 @@ impl JsSurfaceBlender {
             Tetrisation::Vertex => "vertex",
         }
         .into()
+    }
+
+    /// The number of tetrahedra: one per triangle with `"face"`; with `"edge"` two per edge
+    /// of two triangles, with `"vertex"` one per triangle and corner shared with another
+    /// triangle, plus the face-ghost fallbacks.
+    #[wasm_bindgen(getter, js_name = tetrahedronCount)]
+    pub fn tetrahedron_count(&self) -> usize {
+        self.blender.tetrahedron_count()
+    }
+
+    /// The edge or vertex ghosts undefined at rest (a fin, normals cancelling around a
+    /// vertex) replaced by face ghosts on their triangles (0 with `"face"`).
+    #[wasm_bindgen(getter, js_name = fallbackGhosts)]
+    pub fn fallback_ghosts(&self) -> usize {
+        self.blender.fallback_ghosts()
+    }
+
+    /// The triangles with no ghost of the edge or vertex tetrisation (an isolated triangle),
+    /// given a face ghost (0 with `"face"`).
+    #[wasm_bindgen(getter, js_name = loneTriangles)]
+    pub fn lone_triangles(&self) -> usize {
+        self.blender.lone_triangles()
     }
 
     /// The stitching: `"rigid"` or `"shape"`.
@@ -284,10 +310,8 @@ fn surface_options(options: &JsValue) -> Result<SurfaceOptions, Thrown> {
     if let Some(v) = fields.get("tetrisation")? {
         o.tetrisation = match v.as_string().as_deref() {
             Some("face") => Tetrisation::Face,
-            Some("edge" | "vertex") => {
-                let reason = format!("{} is not built yet: only \"face\" is", describe(&v));
-                return Err(bad_option("tetrisation", &v, &reason));
-            }
+            Some("edge") => Tetrisation::Edge,
+            Some("vertex") => Tetrisation::Vertex,
             _ => {
                 let reason = format!("{} is not \"face\", \"edge\" or \"vertex\"", describe(&v));
                 return Err(bad_option("tetrisation", &v, &reason));

@@ -166,8 +166,6 @@ test("options and getters", () => {
   const t = SurfaceBlender.register(rest, tris, { tetrisation: "face", stitch: "shape", iterations: 7 });
   assert.equal(t.iterations, 7);
   for (const [options, option, words] of [
-    [{ tetrisation: "edge" }, "tetrisation", /not built yet/],
-    [{ tetrisation: "vertex" }, "tetrisation", /not built yet/],
     [{ tetrisation: "cell" }, "tetrisation", /"face", "edge" or "vertex"/],
     [{ stitch: "soft" }, "stitch", /"rigid" or "shape"/],
     [{ iterations: 3 }, "iterations", /stitch: "shape"/],
