@@ -3,7 +3,8 @@
 #   1. scripts/setup.sh                    installs what is missing
 #   2. cargo test --workspace              native: unit, integration and doc tests (bunraku
 #                                          and crates/document)
-#   3. wasm-pack test --node               #[wasm_bindgen_test] tests (tests/web.rs) in Node
+#   3. wasm-pack test --node               #[wasm_bindgen_test] tests (the library's and
+#                                          tests/web*.rs, fingerprint.rs) in Node
 #   4. scripts/build-wasm.sh               the npm package in pkg/ (skipped when up to date)
 #      scripts/build-gl.mjs                its WebGL2 helper `bunraku/gl` in dist/ (likewise)
 #   5. node --test tests/node/*.mjs        Node tests of the built package; every .mjs, .js
@@ -49,10 +50,12 @@ node_test() { timeout -k 10 1200 node --test "${node_flags[@]}" "$@"; }
 
 step "setup" bash scripts/setup.sh
 step "cargo test (native)" cargo test --workspace
-# --lib --test '*': the library's and the integration tests' test binaries (the
-# #[wasm_bindgen_test] ones run; plain #[test]s run natively above), not the
-# examples nor the doc tests, which `cargo test` already covers natively.
-step "wasm-pack test --node" wasm-pack test --node --mode no-install -- --lib --test '*'
+# The library's test binary and the integration tests that hold #[wasm_bindgen_test]s (their
+# plain #[test]s run natively above); the other integration tests, the examples and the doc
+# tests would only be compiled for wasm to run nothing.
+wasm_tests=()
+while IFS= read -r f; do wasm_tests+=(--test "$(basename "$f" .rs)"); done < <(grep -l wasm_bindgen_test tests/*.rs | sort)
+step "wasm-pack test --node" wasm-pack test --node --mode no-install -- --lib "${wasm_tests[@]}"
 step "build the wasm package" bash scripts/build-wasm.sh
 step "build the WebGL2 helper (bunraku/gl)" node scripts/build-gl.mjs
 
