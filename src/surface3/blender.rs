@@ -1,8 +1,9 @@
 //! [`SurfaceBlender`]: Kaji's blending of 3D surface poses (see the [module
 //! documentation](super)).
 
-use super::kernel3::{exp_rotation, exp_sym, log_rotation, log_sym, mul, polar, Mat3};
+use super::kernel3::{log_rotation, log_sym, mul, polar, Mat3};
 use super::mesh3::{check_points, Surface3};
+use super::pass3::{blend_rhs, Logs3, Quads3};
 use super::stitch3::{Stitch3, Triple};
 use super::tetrise::{face_map, Tetrisation};
 use super::unwrap3::unwrap;
@@ -57,8 +58,10 @@ pub struct SurfaceBlender {
     options: SurfaceOptions,
     stitch: Stitch3,
     rest_centroids: Vec<[f64; 3]>,
-    /// Per pose, per triangle: `ω` (3) then `log S` (6, [`super::kernel3::Sym`]).
-    logs: Vec<Vec<[f64; 9]>>,
+    /// The face tetrahedra's gradients, four triangles at a time ([`Quads3`]).
+    quads: Quads3,
+    /// Per pose, per triangle: `ω` and `log S`, lane by lane ([`Logs3`]).
+    logs: Logs3,
     /// Per pose, each component's centroid minus its rest centroid.
     shifts: Vec<Vec<[f64; 3]>>,
     active: Vec<(usize, f64)>,
@@ -115,11 +118,12 @@ impl SurfaceBlender {
         let (n, c, t) = (surface.vertices().len(), stitch.component_count(), surface.triangles().len());
         let blended = if iterations > 0 { vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); t] } else { Vec::new() };
         Ok(SurfaceBlender {
+            quads: Quads3::new(&stitch, surface.triangles()),
+            logs: Logs3::new(t),
             surface,
             options,
             stitch,
             rest_centroids,
-            logs: Vec::new(),
             shifts: Vec::new(),
             active: Vec::new(),
             rhs: vec![Triple::default(); n],
@@ -218,17 +222,12 @@ impl SurfaceBlender {
             return Err(Error::FlippedTriangles { count: flipped, first });
         }
         unwrap(&self.surface, &mut omega, self.options.anchor.map(|a| a as usize), r);
-        let logs: Vec<[f64; 9]> = omega
-            .iter()
-            .zip(&stretch)
-            .map(|(w, l)| [w[0], w[1], w[2], l[0], l[1], l[2], l[3], l[4], l[5]])
-            .collect();
         let mut shift = vec![[0.0; 3]; self.rest_centroids.len()];
         self.stitch.centroids(welded.iter().copied(), &mut shift);
         for (s, c) in shift.iter_mut().zip(&self.rest_centroids) {
             *s = [s[0] - c[0], s[1] - c[1], s[2] - c[2]];
         }
-        self.logs.push(logs);
+        self.logs.push(&omega, &stretch);
         self.shifts.push(shift);
         self.active.reserve(self.logs.len());
         Ok(self.logs.len() - 1)
@@ -266,7 +265,7 @@ impl SurfaceBlender {
     pub fn blend_into(&mut self, weights: &[f64], out: &mut [[f64; 3]]) -> Result<()> {
         self.compute(weights, out.len())?;
         for (o, &w) in out.iter_mut().zip(self.surface.weld_map()) {
-            *o = self.positions[w as usize].0;
+            *o = self.positions[w as usize].xyz();
         }
         Ok(())
     }
@@ -281,7 +280,7 @@ impl SurfaceBlender {
         }
         self.compute(weights, n)?;
         for (o, &w) in out.chunks_exact_mut(3).zip(self.surface.weld_map()) {
-            let p = self.positions[w as usize].0;
+            let p = self.positions[w as usize].xyz();
             (o[0], o[1], o[2]) = (p[0] as f32, p[1] as f32, p[2] as f32);
         }
         Ok(())
@@ -311,26 +310,18 @@ impl SurfaceBlender {
                 *t = [t[0] + w * s[0], t[1] + w * s[1], t[2] + w * s[2]];
             }
         }
-        // Blend_C and the right-hand side.
-        self.rhs.fill(Triple::default());
-        let shape = !self.blended.is_empty();
-        for (t, &tri) in self.surface.triangles().iter().enumerate() {
-            let mut g = [0.0; 9];
-            for &(k, w) in &self.active {
-                let l = &self.logs[k][t];
-                for i in 0..9 {
-                    g[i] += w * l[i];
-                }
-            }
-            let s = exp_sym(&[g[3], g[4], g[5], g[6], g[7], g[8]]);
-            let c = mul(&exp_rotation([g[0], g[1], g[2]]), &s);
-            self.stitch.scatter(t, tri, &c, &mut self.rhs);
-            if shape {
-                self.blended[t] = (c, s);
-            }
-        }
-        self.stitch.solve(&mut self.rhs);
-        self.positions.copy_from_slice(&self.rhs);
+        self.blend_face();
+        Ok(())
+    }
+
+    /// The face tetrisation's blend of `self.active` into `self.positions` (welded
+    /// vertices): Blend_C and the right-hand side ([`blend_rhs`], with the blended maps
+    /// kept for `E_S`), one back-substitution with x, y and z together, each component
+    /// moved to its target centroid; then the `E_S` iterations, if any.
+    fn blend_face(&mut self) {
+        let maps = if self.blended.is_empty() { None } else { Some(&mut self.blended[..]) };
+        blend_rhs(&self.quads, &self.logs, &self.active, &mut self.positions, maps);
+        self.stitch.solve(&mut self.positions);
         self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
         let iterations = match self.options.stitch {
             Stitch::Rigid => 0,
@@ -351,7 +342,6 @@ impl SurfaceBlender {
             self.positions.copy_from_slice(&self.rhs);
             self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
         }
-        Ok(())
     }
 }
 

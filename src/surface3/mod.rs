@@ -12,6 +12,8 @@
 //! | `mesh3` | [`Surface3`]: validation (open, closed, several components), welding of seam duplicates | |
 //! | `tetrise` | [`Tetrisation`]: the face ghost, each tetrahedron's map from rest | §4.1, eq. 1–2 |
 //! | `kernel3` | polar decomposition, rotation log/exp (Rodrigues), symmetric log/exp | §5, eq. 3 |
+//! | `lanes3` | the exponentials on four lanes: Rodrigues, symmetric exp by Cayley–Hamilton | §5, eq. 3 |
+//! | `pass3` | the per-blend pass: the logs lane by lane, Blend_C and the right-hand side | eq. 3–4 |
 //! | `unwrap3` | the continuous logarithm `log^c` over the triangle adjacency, from an anchor | §5 |
 //! | `stitch3` | `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
 //! | `blender` | [`SurfaceBlender`] | §3 |
@@ -40,7 +42,9 @@
 
 mod blender;
 mod kernel3;
+mod lanes3;
 pub mod mesh3;
+mod pass3;
 mod stitch3;
 mod tetrise;
 mod unwrap3;
