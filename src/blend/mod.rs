@@ -52,11 +52,11 @@
 //! * **Weights** are limited to `±`[`MAX_WEIGHT`], and blended log-stretches to `e^±708`,
 //!   so that nothing overflows.
 
-mod elementary;
+pub(crate) mod elementary;
 mod kernel;
 pub mod polar;
 mod pose;
-mod quad;
+pub(crate) mod quad;
 mod stitch;
 mod store;
 mod unwrap;

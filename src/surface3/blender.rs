@@ -1,8 +1,9 @@
 //! [`SurfaceBlender`]: Kaji's blending of 3D surface poses (see the [module
 //! documentation](super)).
 
-use super::kernel3::{exp_rotation, exp_sym, log_rotation, log_sym, mul, polar, Mat3};
+use super::kernel3::{log_rotation, log_sym, mul, polar, Mat3};
 use super::mesh3::{check_points, Surface3};
+use super::pass3::{blend_rhs, Logs3, Quads3};
 use super::stitch3::{Stitch3, Triple};
 use super::stitch_tets::TetStitch;
 use super::tetrise::{face_map, Tetrisation};
@@ -58,8 +59,10 @@ pub struct SurfaceBlender {
     options: SurfaceOptions,
     stitch: Stitch3,
     rest_centroids: Vec<[f64; 3]>,
-    /// Per pose, per triangle: `ω` (3) then `log S` (6, [`super::kernel3::Sym`]).
-    logs: Vec<Vec<[f64; 9]>>,
+    /// The face tetrahedra's gradients, four triangles at a time ([`Quads3`]).
+    quads: Quads3,
+    /// Per pose, per triangle: `ω` and `log S`, lane by lane ([`Logs3`]).
+    logs: Logs3,
     /// Per pose, each component's centroid minus its rest centroid.
     shifts: Vec<Vec<[f64; 3]>>,
     active: Vec<(usize, f64)>,
@@ -69,9 +72,11 @@ pub struct SurfaceBlender {
     scratch: Vec<[f64; 3]>,
     /// Per triangle, the blended map `C_t` and stretch `S(C_t)` (`E_S` only; else empty).
     blended: Vec<(Mat3, Mat3)>,
-    /// Edge and vertex tetrisations: the stitching with ghost unknowns (`logs` are then
-    /// per tetrahedron); `None` in face mode.
+    /// Edge and vertex tetrisations: the stitching with ghost unknowns; `None` in face mode.
     tets: Option<Box<TetStitch>>,
+    /// Edge and vertex tetrisations: per pose, per tetrahedron, `ω` (3) then `log S` (6);
+    /// empty in face mode, whose logs are `logs`.
+    tet_logs: Vec<Vec<[f64; 9]>>,
 }
 
 impl SurfaceBlender {
@@ -119,11 +124,13 @@ impl SurfaceBlender {
         let face_shape = iterations > 0 && tets.is_none();
         let blended = if face_shape { vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); t] } else { Vec::new() };
         Ok(SurfaceBlender {
+            quads: Quads3::new(&stitch, surface.triangles()),
+            logs: Logs3::new(t),
+            tet_logs: Vec::new(),
             surface,
             options,
             stitch,
             rest_centroids,
-            logs: Vec::new(),
             shifts: Vec::new(),
             active: Vec::new(),
             rhs: vec![Triple::default(); n],
@@ -179,7 +186,7 @@ impl SurfaceBlender {
 
     /// The number of poses.
     pub fn pose_count(&self) -> usize {
-        self.logs.len()
+        self.shifts.len()
     }
 
     /// The stitching matrix after the ghosts' elimination, without the translation pins:
@@ -222,7 +229,8 @@ impl SurfaceBlender {
         self.surface.welded_positions(positions, &mut welded);
         if let Some(tets) = &self.tets {
             let logs = tets.pose_logs(&self.surface, &welded, self.options.anchor, r)?;
-            return Ok(self.push_pose(logs, &welded));
+            self.tet_logs.push(logs);
+            return Ok(self.push_shift(&welded));
         }
         let tris = self.surface.triangles();
         let mut omega = Vec::with_capacity(tris.len());
@@ -248,34 +256,33 @@ impl SurfaceBlender {
             return Err(Error::FlippedTriangles { count: flipped, first });
         }
         unwrap(&self.surface, &mut omega, self.options.anchor.map(|a| a as usize), r);
-        let logs: Vec<[f64; 9]> = omega
-            .iter()
-            .zip(&stretch)
-            .map(|(w, l)| [w[0], w[1], w[2], l[0], l[1], l[2], l[3], l[4], l[5]])
-            .collect();
-        Ok(self.push_pose(logs, &welded))
+        self.logs.push(&omega, &stretch);
+        Ok(self.push_shift(&welded))
     }
 
-    /// Stores a pose's logarithms and centroid shifts; its index.
-    fn push_pose(&mut self, logs: Vec<[f64; 9]>, welded: &[[f64; 3]]) -> usize {
+    /// Stores a new pose's centroid shifts (its logarithms stored); its index.
+    fn push_shift(&mut self, welded: &[[f64; 3]]) -> usize {
         let mut shift = vec![[0.0; 3]; self.rest_centroids.len()];
         self.stitch.centroids(welded.iter().copied(), &mut shift);
         for (s, c) in shift.iter_mut().zip(&self.rest_centroids) {
             *s = [s[0] - c[0], s[1] - c[1], s[2] - c[2]];
         }
-        self.logs.push(logs);
         self.shifts.push(shift);
-        self.active.reserve(self.logs.len());
-        self.logs.len() - 1
+        self.active.reserve(self.shifts.len());
+        self.shifts.len() - 1
     }
 
     /// Removes pose `index`; the poses after it move down by one. Errors:
     /// [`Error::BadPose`].
     pub fn remove_pose(&mut self, index: usize) -> Result<()> {
-        if index >= self.logs.len() {
-            return Err(Error::BadPose { index, pose_count: self.logs.len() });
+        if index >= self.shifts.len() {
+            return Err(Error::BadPose { index, pose_count: self.shifts.len() });
         }
-        self.logs.remove(index);
+        if self.tets.is_some() {
+            self.tet_logs.remove(index);
+        } else {
+            self.logs.remove(index);
+        }
         self.shifts.remove(index);
         Ok(())
     }
@@ -301,7 +308,7 @@ impl SurfaceBlender {
     pub fn blend_into(&mut self, weights: &[f64], out: &mut [[f64; 3]]) -> Result<()> {
         self.compute(weights, out.len())?;
         for (o, &w) in out.iter_mut().zip(self.surface.weld_map()) {
-            *o = self.positions[w as usize].0;
+            *o = self.positions[w as usize].xyz();
         }
         Ok(())
     }
@@ -316,7 +323,7 @@ impl SurfaceBlender {
         }
         self.compute(weights, n)?;
         for (o, &w) in out.chunks_exact_mut(3).zip(self.surface.weld_map()) {
-            let p = self.positions[w as usize].0;
+            let p = self.positions[w as usize].xyz();
             (o[0], o[1], o[2]) = (p[0] as f32, p[1] as f32, p[2] as f32);
         }
         Ok(())
@@ -325,7 +332,7 @@ impl SurfaceBlender {
     /// Checks the weights and an output of `out_len` positions, and blends into
     /// `self.positions` (welded vertices).
     fn compute(&mut self, weights: &[f64], out_len: usize) -> Result<()> {
-        let poses = self.logs.len();
+        let poses = self.shifts.len();
         if weights.len() != poses {
             return Err(Error::CountMismatch { what: "weights", got: weights.len(), expected: poses });
         }
@@ -351,30 +358,28 @@ impl SurfaceBlender {
                 Stitch::Rigid => 0,
                 Stitch::Shape { iterations } => iterations,
             };
-            tets.blend(self.surface.triangles(), &self.logs, &self.active, iterations, &mut self.positions);
+            tets.blend(
+                self.surface.triangles(),
+                &self.tet_logs,
+                &self.active,
+                iterations,
+                &mut self.positions,
+            );
             self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
             return Ok(());
         }
-        // Blend_C and the right-hand side.
-        self.rhs.fill(Triple::default());
-        let shape = !self.blended.is_empty();
-        for (t, &tri) in self.surface.triangles().iter().enumerate() {
-            let mut g = [0.0; 9];
-            for &(k, w) in &self.active {
-                let l = &self.logs[k][t];
-                for i in 0..9 {
-                    g[i] += w * l[i];
-                }
-            }
-            let s = exp_sym(&[g[3], g[4], g[5], g[6], g[7], g[8]]);
-            let c = mul(&exp_rotation([g[0], g[1], g[2]]), &s);
-            self.stitch.scatter(t, tri, &c, &mut self.rhs);
-            if shape {
-                self.blended[t] = (c, s);
-            }
-        }
-        self.stitch.solve(&mut self.rhs);
-        self.positions.copy_from_slice(&self.rhs);
+        self.blend_face();
+        Ok(())
+    }
+
+    /// The face tetrisation's blend of `self.active` into `self.positions` (welded
+    /// vertices): Blend_C and the right-hand side ([`blend_rhs`], with the blended maps
+    /// kept for `E_S`), one back-substitution with x, y and z together, each component
+    /// moved to its target centroid; then the `E_S` iterations, if any.
+    fn blend_face(&mut self) {
+        let maps = if self.blended.is_empty() { None } else { Some(&mut self.blended[..]) };
+        blend_rhs(&self.quads, &self.logs, &self.active, &mut self.positions, maps);
+        self.stitch.solve(&mut self.positions);
         self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
         let iterations = match self.options.stitch {
             Stitch::Rigid => 0,
@@ -395,7 +400,6 @@ impl SurfaceBlender {
             self.positions.copy_from_slice(&self.rhs);
             self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
         }
-        Ok(())
     }
 }
 

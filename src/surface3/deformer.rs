@@ -239,7 +239,7 @@ impl SurfaceDeformer {
         });
         let handle_vertices = handle_vertices.collect();
         for (g, p) in self.given.iter_mut().zip(self.surface.vertices()) {
-            *g = Triple(*p);
+            *g = Triple::new(*p);
         }
         self.handles = vec![([0.0; 3], 1.0, [[0.0; 3]; 3], [0.0; 3]); handles.len()];
         self.compiled = Some(Compiled { handle_vertices, fields, system });
@@ -259,7 +259,7 @@ impl SurfaceDeformer {
     pub fn update_into(&mut self, transforms: &[f64], out: &mut [[f64; 3]]) -> Result<()> {
         self.compute(transforms, out.len())?;
         for (o, &w) in out.iter_mut().zip(self.surface.weld_map()) {
-            *o = self.solution[w as usize].0;
+            *o = self.solution[w as usize].xyz();
         }
         Ok(())
     }
@@ -273,7 +273,7 @@ impl SurfaceDeformer {
         }
         self.compute(transforms, n)?;
         for (o, &w) in out.chunks_exact_mut(3).zip(self.surface.weld_map()) {
-            let p = self.solution[w as usize].0;
+            let p = self.solution[w as usize].xyz();
             (o[0], o[1], o[2]) = (p[0] as f32, p[1] as f32, p[2] as f32);
         }
         Ok(())
@@ -292,7 +292,7 @@ impl SurfaceDeformer {
         }
         let Some(compiled) = &mut self.compiled else {
             for (s, p) in self.solution.iter_mut().zip(self.surface.vertices()) {
-                *s = Triple(*p);
+                *s = Triple::new(*p);
             }
             return Ok(());
         };
@@ -309,13 +309,13 @@ impl SurfaceDeformer {
             let guidance = guidance(&self.handles, fields);
             let (from, to) = (self.starts[t] as usize, self.starts[t + 1] as usize);
             for (&u, b) in self.load_vertices[from..to].iter().zip(&self.load_vectors[from..to]) {
-                self.rhs[u as usize] += Triple(apply(&guidance, *b));
+                self.rhs[u as usize] += Triple::new(apply(&guidance, *b));
             }
         }
         for &(v, k) in &compiled.handle_vertices {
             let (_, _, a, b) = &self.handles[k as usize];
             let p = apply(a, self.surface.vertices()[v as usize]);
-            self.given[v as usize] = Triple([p[0] + b[0], p[1] + b[1], p[2] + b[2]]);
+            self.given[v as usize] = Triple::new([p[0] + b[0], p[1] + b[1], p[2] + b[2]]);
         }
         compiled.system.solve(&self.rhs, &self.given, &mut self.solution);
         Ok(())

@@ -105,12 +105,12 @@ pub(crate) fn harmonic_fields(
     let mut values = vec![Triple::default(); n];
     for first in (0..handles).step_by(3) {
         for (g, r) in given.iter_mut().zip(region) {
-            *g = Triple([0, 1, 2].map(|lane| if *r == Some(first + lane) { 1.0 } else { 0.0 }));
+            *g = Triple::new([0, 1, 2].map(|lane| if *r == Some(first + lane) { 1.0 } else { 0.0 }));
         }
         system.solve(&zero, &given, &mut values);
         for (t, tri) in triangles.iter().enumerate() {
             for lane in 0..3.min(handles - first) {
-                let mean = tri.iter().map(|&v| values[v as usize].0[lane]).sum::<f64>() / 3.0;
+                let mean = tri.iter().map(|&v| values[v as usize].xyz()[lane]).sum::<f64>() / 3.0;
                 fields[t * handles + first + lane] = mean;
             }
         }

@@ -6,8 +6,9 @@
 //! Departures: the polar factor is found by Higham's scaled Newton iteration
 //! `X ← (γX + X⁻ᵀ/γ)/2` (accurate to round-off for any `det A > 0`), not by an SVD; the
 //! stretch's logarithm by a Jacobi eigen-decomposition (once per pose); the exponential of
-//! a blended log-stretch by scaling and squaring of its Taylor series (per blend, no
-//! eigen-decomposition; \[K\] suggests closed-form eigenvalues or Kaji and Ochiai's formula).
+//! a blended log-stretch in closed form by Cayley–Hamilton (per blend, no
+//! eigen-decomposition, [`super::lanes3`]; \[K\] suggests closed-form eigenvalues or Kaji
+//! and Ochiai's formula).
 
 /// A 3×3 matrix, row-major.
 pub type Mat3 = [[f64; 3]; 3];
@@ -126,23 +127,11 @@ pub fn log_rotation(r: &Mat3) -> [f64; 3] {
     n
 }
 
-/// Rodrigues' formula: the rotation `exp(ω)` by `|ω|` about `ω/|ω|`.
-#[inline]
+/// Rodrigues' formula: the rotation `exp(ω)` by `|ω|` about `ω/|ω|` (one lane of
+/// [`super::lanes3::exp_rotation4`]).
 pub fn exp_rotation(w: [f64; 3]) -> Mat3 {
-    let t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    let (a, b) = if t2 < 1e-8 {
-        (1.0 - t2 / 6.0 + t2 * t2 / 120.0, 0.5 - t2 / 24.0 + t2 * t2 / 720.0)
-    } else {
-        let t = t2.sqrt();
-        let (s, c) = t.sin_cos();
-        (s / t, (1.0 - c) / t2)
-    };
-    let [x, y, z] = w;
-    [
-        [1.0 - b * (y * y + z * z), b * x * y - a * z, b * x * z + a * y],
-        [b * x * y + a * z, 1.0 - b * (x * x + z * z), b * y * z - a * x],
-        [b * x * z - a * y, b * y * z + a * x, 1.0 - b * (x * x + y * y)],
-    ]
+    use crate::blend::quad::F4;
+    super::lanes3::exp_rotation4(w.map(F4::splat)).map(|row| row.map(|x| x.lanes()[0]))
 }
 
 /// A symmetric 3×3 as `[m11, m22, m33, m12, m13, m23]`.
@@ -210,74 +199,13 @@ pub fn log_sym(s: &Mat3) -> Sym {
     spectral(l, &q, |x| x.max(f64::MIN_POSITIVE).ln())
 }
 
-/// `exp l` of a symmetric matrix by scaling and squaring: the Taylor series (to the degree
-/// whose next term is below 10⁻¹⁷, at most 12) of `l / 2ᵏ` with `‖l / 2ᵏ‖_F ≤ 1/4`,
-/// squared `k` times. A log-stretch beyond 700 in Frobenius norm is scaled down to it
-/// (as the 2D blender caps log-stretches at `e^±708`), so that nothing overflows.
-#[inline]
+/// `exp l` of a symmetric matrix, in closed form by Cayley–Hamilton: one lane of
+/// [`super::lanes3::exp_sym4`] (the per-blend pass's, no eigen-decomposition). A
+/// log-stretch beyond [`super::lanes3::MAX_LOG_NORM`] in Frobenius norm is scaled down to it.
 pub fn exp_sym(l: &Sym) -> Mat3 {
-    let norm2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2] + 2.0 * (l[3] * l[3] + l[4] * l[4] + l[5] * l[5]);
-    let norm = norm2.sqrt();
-    let (l, norm) = if norm > 700.0 { (l.map(|x| x * (700.0 / norm)), 700.0) } else { (*l, norm) };
-    let mut k = 0;
-    let mut scale = 1.0;
-    while norm * scale > 0.25 {
-        scale *= 0.5;
-        k += 1;
-    }
-    if norm == 0.0 {
-        return IDENTITY;
-    }
-    let a = l.map(|x| x * scale);
-    // The lowest degree whose next term, ‖a‖^(d+1)/(d+1)!, is below 10⁻¹⁷ (at most 12).
-    let x = norm * scale;
-    let (mut degree, mut term) = (1, x * x / 2.0);
-    while degree < 12 && term > 1e-17 {
-        degree += 1;
-        term *= x / (degree + 1) as f64;
-    }
-    // Horner, I + a(I + a/2(I + a/3(…))), on the six entries: every factor is a polynomial
-    // in `a`, so the products commute and stay symmetric.
-    const INVERSE: [f64; 13] = [
-        0.0,
-        1.0,
-        1.0 / 2.0,
-        1.0 / 3.0,
-        1.0 / 4.0,
-        1.0 / 5.0,
-        1.0 / 6.0,
-        1.0 / 7.0,
-        1.0 / 8.0,
-        1.0 / 9.0,
-        1.0 / 10.0,
-        1.0 / 11.0,
-        1.0 / 12.0,
-    ];
-    let mut e: Sym = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
-    for d in (1..=degree).rev() {
-        let m = sym_mul(&a, &e);
-        let r = INVERSE[d];
-        e = [1.0 + r * m[0], 1.0 + r * m[1], 1.0 + r * m[2], r * m[3], r * m[4], r * m[5]];
-    }
-    for _ in 0..k {
-        e = sym_mul(&e, &e);
-    }
+    use crate::blend::quad::F4;
+    let e = super::lanes3::exp_sym4(&l.map(F4::splat)).map(|x| x.lanes()[0]);
     full(&e)
-}
-
-/// `a b` for commuting symmetric `a`, `b` (the product is then symmetric).
-#[inline(always)]
-fn sym_mul(a: &Sym, b: &Sym) -> Sym {
-    let [a11, a22, a33, a12, a13, a23] = *a;
-    let [b11, b22, b33, b12, b13, b23] = *b;
-    [
-        a11 * b11 + a12 * b12 + a13 * b13,
-        a12 * b12 + a22 * b22 + a23 * b23,
-        a13 * b13 + a23 * b23 + a33 * b33,
-        a11 * b12 + a12 * b22 + a13 * b23,
-        a11 * b13 + a12 * b23 + a13 * b33,
-        a12 * b13 + a22 * b23 + a23 * b33,
-    ]
 }
 
 #[cfg(test)]

@@ -22,6 +22,8 @@
 //! | `tetrise` | [`Tetrisation`]: the face ghost, each tetrahedron's map from rest | §4.1, eq. 1–2 |
 //! | `ghosts` | the edge and vertex ghosts, their tetrahedra, face-ghost fallbacks, per-mode checks | §4.2–4.3 |
 //! | `kernel3` | polar decomposition, rotation log/exp (Rodrigues), symmetric log/exp | §5, eq. 3 |
+//! | `lanes3` | the exponentials on four lanes: Rodrigues, symmetric exp by Cayley–Hamilton | §5, eq. 3 |
+//! | `pass3` | face mode's per-blend pass: the logs lane by lane, Blend_C and the right-hand side | eq. 3–4 |
 //! | `unwrap3` | the continuous logarithm `log^c` over the triangle (or tetrahedron) adjacency, from an anchor | §5 |
 //! | `stitch3` | face mode: `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
 //! | `stitch_tets` | edge and vertex modes: `E_T` and `E_S` with the ghosts as unknowns | §6, eq. 4–5 |
@@ -71,7 +73,9 @@ mod deformer;
 mod ghosts;
 mod harmonic;
 mod kernel3;
+mod lanes3;
 pub mod mesh3;
+mod pass3;
 mod quality3;
 mod reduced;
 mod regions;

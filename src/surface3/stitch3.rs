@@ -25,27 +25,55 @@ use super::mesh3::Surface3;
 use super::tetrise::rest_inverse;
 use crate::blend::pinned_factor;
 use crate::error::{Error, Result};
+use crate::lanes::F2;
 use crate::solver::{Factor, Rhs, Symbolic, Workspace};
 
-/// x, y and z solved together against one real factor.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Triple(pub [f64; 3]);
+/// x, y and z solved together against one real factor, as two [`F2`] pairs `(x, y)`, `(z,
+/// 0)`: every operation of the back-substitution is then two `f64x2` operations in wasm
+/// (three scalar ones, or a pair and a scalar, otherwise).
+#[derive(Debug, Clone, Copy)]
+pub struct Triple([F2; 2]);
+
+impl Triple {
+    /// `(x, y, z)`.
+    #[inline(always)]
+    pub fn new([x, y, z]: [f64; 3]) -> Triple {
+        Triple([F2::new(x, y), F2::new(z, 0.0)])
+    }
+
+    /// `[x, y, z]`.
+    #[inline(always)]
+    pub fn xyz(self) -> [f64; 3] {
+        let ([x, y], [z, _]) = (self.0[0].lanes(), self.0[1].lanes());
+        [x, y, z]
+    }
+}
+
+impl Default for Triple {
+    #[inline(always)]
+    fn default() -> Triple {
+        Triple([F2::splat(0.0); 2])
+    }
+}
+
+impl PartialEq for Triple {
+    #[inline(always)]
+    fn eq(&self, o: &Triple) -> bool {
+        self.0[0].lanes() == o.0[0].lanes() && self.0[1].lanes() == o.0[1].lanes()
+    }
+}
 
 impl SubAssign for Triple {
     #[inline(always)]
     fn sub_assign(&mut self, o: Triple) {
-        for k in 0..3 {
-            self.0[k] -= o.0[k];
-        }
+        self.0 = [self.0[0] - o.0[0], self.0[1] - o.0[1]];
     }
 }
 
 impl AddAssign for Triple {
     #[inline(always)]
     fn add_assign(&mut self, o: Triple) {
-        for k in 0..3 {
-            self.0[k] += o.0[k];
-        }
+        self.0 = [self.0[0] + o.0[0], self.0[1] + o.0[1]];
     }
 }
 
@@ -53,7 +81,8 @@ impl Mul<f64> for Triple {
     type Output = Triple;
     #[inline(always)]
     fn mul(self, s: f64) -> Triple {
-        Triple(self.0.map(|x| x * s))
+        let s = F2::splat(s);
+        Triple([self.0[0] * s, self.0[1] * s])
     }
 }
 
@@ -61,7 +90,8 @@ impl Div<f64> for Triple {
     type Output = Triple;
     #[inline(always)]
     fn div(self, s: f64) -> Triple {
-        Triple(self.0.map(|x| x / s))
+        let s = F2::splat(s);
+        Triple([self.0[0] / s, self.0[1] / s])
     }
 }
 
@@ -213,9 +243,9 @@ impl Stitch3 {
         let [gb, gc] = self.gradients[t];
         let ub = apply(c, gb);
         let uc = apply(c, gc);
-        rhs[tri[1] as usize] += Triple(ub);
-        rhs[tri[2] as usize] += Triple(uc);
-        rhs[tri[0] as usize] -= Triple([ub[0] + uc[0], ub[1] + uc[1], ub[2] + uc[2]]);
+        rhs[tri[1] as usize] += Triple::new(ub);
+        rhs[tri[2] as usize] += Triple::new(uc);
+        rhs[tri[0] as usize] -= Triple::new([ub[0] + uc[0], ub[1] + uc[1], ub[2] + uc[2]]);
     }
 
     /// Solves `K X = B` in place; no allocation.
@@ -226,12 +256,12 @@ impl Stitch3 {
     /// Moves `solution` so that each component's centroid is `targets[c]`, in place;
     /// `scratch` has one entry per component.
     pub(crate) fn place(&self, solution: &mut [Triple], targets: &[[f64; 3]], scratch: &mut [[f64; 3]]) {
-        self.centroids(solution.iter().map(|s| s.0), scratch);
+        self.centroids(solution.iter().map(|s| s.xyz()), scratch);
         for (t, c) in targets.iter().zip(scratch.iter_mut()) {
             *c = [t[0] - c[0], t[1] - c[1], t[2] - c[2]];
         }
         for (s, &c) in solution.iter_mut().zip(&self.component) {
-            *s += Triple(scratch[c as usize]);
+            *s += Triple::new(scratch[c as usize]);
         }
     }
 
@@ -240,9 +270,9 @@ impl Stitch3 {
     pub(crate) fn map_with_ghost(&self, t: usize, tri: [u32; 3], positions: &[Triple], c: &Mat3) -> Mat3 {
         let [gb, gc] = self.gradients[t];
         let w = self.areas[t];
-        let x0 = positions[tri[0] as usize].0;
-        let d1 = sub3(positions[tri[1] as usize].0, x0);
-        let d2 = sub3(positions[tri[2] as usize].0, x0);
+        let x0 = positions[tri[0] as usize].xyz();
+        let d1 = sub3(positions[tri[1] as usize].xyz(), x0);
+        let d2 = sub3(positions[tri[2] as usize].xyz(), x0);
         let n = self.normals[t];
         let cn = apply(c, n);
         let mut m = [[0.0; 3]; 3];
@@ -337,7 +367,7 @@ mod tests {
         let x: Vec<Triple> = surface
             .vertices()
             .iter()
-            .map(|p| Triple([p[0] + 0.1 * p[1] * p[1], p[1] - 0.2 * p[2], p[2] + 0.3 * p[0]]))
+            .map(|p| Triple::new([p[0] + 0.1 * p[1] * p[1], p[1] - 0.2 * p[2], p[2] + 0.3 * p[0]]))
             .collect();
         let mut b = vec![Triple::default(); x.len()];
         for (t, &tri) in surface.triangles().iter().enumerate() {
@@ -347,9 +377,9 @@ mod tests {
         for (r, col, k) in stitch.matrix(surface.triangles()) {
             let (r, col) = (r as usize, col as usize);
             for d in 0..3 {
-                kx[r][d] += k * x[col].0[d];
+                kx[r][d] += k * x[col].xyz()[d];
                 if r != col {
-                    kx[col][d] += k * x[r].0[d];
+                    kx[col][d] += k * x[r].xyz()[d];
                 }
             }
         }
@@ -357,11 +387,13 @@ mod tests {
         for v in [0, 5, 11, 19] {
             for d in 0..3 {
                 let (mut plus, mut minus) = (x.clone(), x.clone());
-                plus[v].0[d] += h;
-                minus[v].0[d] -= h;
+                let mut step = [0.0; 3];
+                step[d] = h;
+                plus[v] += Triple::new(step);
+                minus[v] -= Triple::new(step);
                 let fd = (energy(&stitch, &surface, &plus, &c) - energy(&stitch, &surface, &minus, &c))
                     / (2.0 * h);
-                let exact = 2.0 * (kx[v][d] - b[v].0[d]);
+                let exact = 2.0 * (kx[v][d] - b[v].xyz()[d]);
                 assert!((fd - exact).abs() < 1e-6 * (1.0 + exact.abs()), "{v} {d}: {fd} against {exact}");
             }
         }
@@ -375,9 +407,9 @@ mod tests {
         let stitch = Stitch3::new(&surface).unwrap();
         let c = targets(surface.triangles().len());
         let x: Vec<Triple> =
-            surface.vertices().iter().map(|p| Triple([p[0], 1.2 * p[1], p[2] - 0.4 * p[0]])).collect();
+            surface.vertices().iter().map(|p| Triple::new([p[0], 1.2 * p[1], p[2] - 0.4 * p[0]])).collect();
         for (t, &tri) in surface.triangles().iter().enumerate() {
-            let [a, b, cc] = tri.map(|k| x[k as usize].0);
+            let [a, b, cc] = tri.map(|k| x[k as usize].xyz());
             let m = stitch.map_with_ghost(t, tri, &x, &c[t]);
             let rest = tri.map(|k| surface.vertices()[k as usize]);
             let frame = face_frame(rest[0], rest[1], rest[2]);

@@ -207,7 +207,7 @@ impl TetStitch {
             for k in 0..self.tets.tets.len() {
                 let (g, t) = self.tets.tets[k];
                 let tri = tris[t as usize];
-                let at = |v: u32| self.solution[v as usize].0;
+                let at = |v: u32| self.solution[v as usize].xyz();
                 let a = at(tri[0]);
                 let (e1, e2, e3) = (sub(at(tri[1]), a), sub(at(tri[2]), a), sub(at(self.n as u32 + g), a));
                 let x = [[e1[0], e2[0], e3[0]], [e1[1], e2[1], e3[1]], [e1[2], e2[2], e3[2]]];
@@ -235,10 +235,10 @@ impl TetStitch {
         let tri = tris[t as usize];
         let [rb, rc, rg] = self.rows[k];
         let (ub, uc, ug) = (apply(c, rb), apply(c, rc), apply(c, rg));
-        self.solution[tri[1] as usize] += Triple(ub);
-        self.solution[tri[2] as usize] += Triple(uc);
-        self.solution[self.n + g as usize] += Triple(ug);
-        self.solution[tri[0] as usize] -= Triple([0, 1, 2].map(|i| ub[i] + uc[i] + ug[i]));
+        self.solution[tri[1] as usize] += Triple::new(ub);
+        self.solution[tri[2] as usize] += Triple::new(uc);
+        self.solution[self.n + g as usize] += Triple::new(ug);
+        self.solution[tri[0] as usize] -= Triple::new([0, 1, 2].map(|i| ub[i] + uc[i] + ug[i]));
     }
 }
 
@@ -345,7 +345,7 @@ mod tests {
             let rest_ghosts: Vec<[f64; 3]> =
                 s.tets.ghosts.iter().map(|&g| place(g, p, tris, &s.tets.fans).0).collect();
             let energy = |x: &[Triple]| -> f64 {
-                let pts: Vec<[f64; 3]> = x.iter().map(|t| t.0).collect();
+                let pts: Vec<[f64; 3]> = x.iter().map(|t| t.xyz()).collect();
                 let mut e = 0.0;
                 for (k, &(g, t)) in s.tets.tets.iter().enumerate() {
                     let tri = tris[t as usize];
@@ -363,15 +363,21 @@ mod tests {
             for unknown in 0..x.len() {
                 for d in 0..3 {
                     let (mut plus, mut minus) = (x.clone(), x.clone());
-                    plus[unknown].0[d] += h;
-                    minus[unknown].0[d] -= h;
+                    let nudge = |t: &mut Triple, by: f64| {
+                        let mut p = t.xyz();
+                        p[d] += by;
+                        *t = Triple::new(p);
+                    };
+                    nudge(&mut plus[unknown], h);
+                    nudge(&mut minus[unknown], -h);
                     let fd = (energy(&plus) - energy(&minus)) / (2.0 * h);
                     assert!(fd.abs() < 1e-6, "{mode:?} unknown {unknown} axis {d}: {fd}");
                 }
             }
             // And the energy is not flat: a move off the solution raises it.
             let mut off = x.clone();
-            off[1].0[0] += 0.05;
+            let p = off[1].xyz();
+            off[1] = Triple::new([p[0] + 0.05, p[1], p[2]]);
             assert!(energy(&off) > energy(&x) + 1e-6, "{mode:?}");
         }
     }
