@@ -33,11 +33,13 @@
 
 use super::harmonic::{harmonic_fields, RestGeometry};
 use super::kernel3::{det, exp_rotation, log_rotation, mul, polar, Mat3};
+use super::lanes3::exp_rotation4;
 use super::mesh3::Surface3;
 use super::reduced::Reduced;
 use super::regions::{roles, Role};
 use super::regularise3::{alignment, for_each_term, interior_edges, DeformOperator, InteriorEdge, Term};
 use super::stitch3::{apply, Triple};
+use crate::blend::quad::F4;
 use crate::limits::MAX_COORDINATE;
 use crate::{Error, Result};
 
@@ -303,13 +305,15 @@ impl SurfaceDeformer {
         for (k, (slot, m)) in self.handles.iter_mut().zip(transforms.chunks_exact(16)).enumerate() {
             *slot = handle_transform(k, m)?;
         }
-        // Guidance (\[Z\] §3) and the right-hand side Σ_t T_t b.
+        // Guidance (\[Z\] §3), four triangles at a time, and the right-hand side Σ_t T_t b.
         self.rhs.fill(Triple::default());
-        for (t, fields) in compiled.fields.chunks_exact(h).enumerate() {
-            let guidance = guidance(&self.handles, fields);
-            let (from, to) = (self.starts[t] as usize, self.starts[t + 1] as usize);
-            for (&u, b) in self.load_vertices[from..to].iter().zip(&self.load_vectors[from..to]) {
-                self.rhs[u as usize] += Triple::new(apply(&guidance, *b));
+        for (q, fields) in compiled.fields.chunks(4 * h).enumerate() {
+            for (lane, g) in guidance4(&self.handles, fields).iter().enumerate().take(fields.len() / h) {
+                let t = 4 * q + lane;
+                let (from, to) = (self.starts[t] as usize, self.starts[t + 1] as usize);
+                for (&u, b) in self.load_vertices[from..to].iter().zip(&self.load_vectors[from..to]) {
+                    self.rhs[u as usize] += Triple::new(apply(g, *b));
+                }
             }
         }
         for &(v, k) in &compiled.handle_vertices {
@@ -414,6 +418,23 @@ fn guidance(handles: &[([f64; 3], f64, Mat3, [f64; 3])], fields: &[f64]) -> Mat3
         scale += s * (sigma - 1.0);
     }
     exp_rotation(w).map(|row| row.map(|x| x * scale))
+}
+
+/// [`guidance`] of up to four triangles at once (`fields`: theirs, triangle-major; missing
+/// lanes are the identity), on the blend's lanes: one vectorised Rodrigues for the four.
+#[inline]
+fn guidance4(handles: &[([f64; 3], f64, Mat3, [f64; 3])], fields: &[f64]) -> [Mat3; 4] {
+    let (mut w, mut scale) = ([[0.0; 4]; 3], [1.0; 4]);
+    for (lane, f) in fields.chunks_exact(handles.len()).enumerate() {
+        for (&s, (omega, sigma, _, _)) in f.iter().zip(handles) {
+            for (wi, o) in w.iter_mut().zip(omega) {
+                wi[lane] += s * o;
+            }
+            scale[lane] += s * (sigma - 1.0);
+        }
+    }
+    let r = exp_rotation4(w.map(F4::from)).map(|row| row.map(|x| x.lanes()));
+    std::array::from_fn(|lane| r.map(|row| row.map(|x| x[lane] * scale[lane])))
 }
 
 /// Adds a term's part of `K_β`, `w c_u · c_{u′}`, as upper-triangle triplets.
