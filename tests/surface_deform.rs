@@ -33,7 +33,7 @@ fn options(beta: f64, operator: DeformOperator) -> DeformOptions {
 
 fn every_option() -> Vec<DeformOptions> {
     let mut out = Vec::new();
-    for beta in [0.0, 0.05, DEFAULT_REGULARIZATION, 0.5] {
+    for beta in [0.0, 0.05, 0.2, DEFAULT_REGULARIZATION, 0.9] {
         for op in [DeformOperator::Plain, DeformOperator::Aligned] {
             out.push(options(beta, op));
         }
