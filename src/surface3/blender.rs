@@ -1,7 +1,7 @@
 //! [`SurfaceBlender`]: Kaji's blending of 3D surface poses (see the [module
 //! documentation](super)).
 
-use super::kernel3::{log_rotation, log_sym, mul, polar, Mat3};
+use super::kernel3::{exp_rotation, exp_sym, log_rotation, log_sym, mul, polar, Mat3};
 use super::mesh3::{check_points, Surface3};
 use super::pass3::{blend_rhs, Logs3, Quads3};
 use super::stitch3::{Stitch3, Triple};
@@ -329,9 +329,8 @@ impl SurfaceBlender {
         Ok(())
     }
 
-    /// Checks the weights and an output of `out_len` positions, and blends into
-    /// `self.positions` (welded vertices).
-    fn compute(&mut self, weights: &[f64], out_len: usize) -> Result<()> {
+    /// Checks `weights`: one per pose, each within ±[`MAX_WEIGHT`].
+    fn check_weights(&self, weights: &[f64]) -> Result<()> {
         let poses = self.shifts.len();
         if weights.len() != poses {
             return Err(Error::CountMismatch { what: "weights", got: weights.len(), expected: poses });
@@ -341,6 +340,40 @@ impl SurfaceBlender {
         {
             return Err(Error::BadWeight { index, value, limit: MAX_WEIGHT });
         }
+        Ok(())
+    }
+
+    /// Face mode's Blend_C maps `C_t = exp(Σ_k w_k ω_{k,t}) exp(Σ_k w_k L_{k,t})` (\[K\] eq.
+    /// 3) for `weights`, triangle by triangle from the stored logs, with the face
+    /// stitching: what the energies (`energies3`) are measured against. Allocates.
+    ///
+    /// Errors: those of the weights ([`SurfaceBlender::blend_into`]'s);
+    /// [`Error::BadOption`] on `tetrisation` in edge and vertex modes, whose energies have
+    /// the ghosts as unknowns.
+    pub(super) fn face_targets(&self, weights: &[f64]) -> Result<(Vec<Mat3>, &Stitch3)> {
+        if self.tets.is_some() {
+            let reason = "has ghosts as unknowns: the energies are evaluated in face mode".into();
+            return Err(Error::BadOption { name: "tetrisation", value: None, reason });
+        }
+        self.check_weights(weights)?;
+        let maps = (0..self.surface.triangles().len())
+            .map(|t| {
+                let (mut omega, mut stretch) = ([0.0; 3], [0.0; 6]);
+                for (k, &w) in weights.iter().enumerate() {
+                    let (o, l) = self.logs.triangle(k, t);
+                    omega = std::array::from_fn(|i| omega[i] + w * o[i]);
+                    stretch = std::array::from_fn(|i| stretch[i] + w * l[i]);
+                }
+                mul(&exp_rotation(omega), &exp_sym(&stretch))
+            })
+            .collect();
+        Ok((maps, &self.stitch))
+    }
+
+    /// Checks the weights and an output of `out_len` positions, and blends into
+    /// `self.positions` (welded vertices).
+    fn compute(&mut self, weights: &[f64], out_len: usize) -> Result<()> {
+        self.check_weights(weights)?;
         let n = self.surface.caller_vertex_count();
         if out_len != n {
             return Err(Error::CountMismatch { what: "output length", got: out_len, expected: n });
@@ -400,73 +433,5 @@ impl SurfaceBlender {
             self.positions.copy_from_slice(&self.rhs);
             self.stitch.place(&mut self.positions, &self.targets, &mut self.scratch);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::f64::consts::PI;
-
-    /// A square tube along z, 4 × `rings` quads on its sides, open at both ends.
-    fn tube(rings: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-        let corners = [[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]];
-        let mut v = Vec::new();
-        for i in 0..=rings {
-            for j in 0..8 {
-                let (a, b) = (corners[j / 2], corners[(j / 2 + 1) % 4]);
-                let f = (j % 2) as f64 * 0.5;
-                v.push([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), 3.0 * i as f64 / rings as f64]);
-            }
-        }
-        let id = |i: usize, j: usize| (i * 8 + j % 8) as u32;
-        let mut t = Vec::new();
-        for i in 0..rings {
-            for j in 0..8 {
-                t.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
-                t.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
-            }
-        }
-        (v, t)
-    }
-
-    /// `E_S` (\[K\] eq. 5) of the blender's current positions: `Σ_t W_t ‖S(Â_t) − S(C_t)‖²`,
-    /// with each ghost at its `E_T` optimum.
-    fn shape_energy(b: &SurfaceBlender) -> f64 {
-        let mut e = 0.0;
-        for (t, &tri) in b.surface.triangles().iter().enumerate() {
-            let (c, s) = &b.blended[t];
-            let map = b.stitch.map_with_ghost(t, tri, &b.positions, c);
-            let (_, sa) = polar(&map).unwrap();
-            let d: f64 = (0..9).map(|k| (sa[k / 3][k % 3] - s[k / 3][k % 3]).powi(2)).sum();
-            e += b.stitch.areas[t] * d;
-        }
-        e
-    }
-
-    #[test]
-    fn shape_iterations_lower_the_rotation_invariant_energy() {
-        let (rest, tris) = tube(24);
-        let twisted: Vec<[f64; 3]> = rest
-            .iter()
-            .map(|p| {
-                let (s, c) = (1.5 * PI * p[2] / 3.0).sin_cos();
-                [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]]
-            })
-            .collect();
-        let mut energies = Vec::new();
-        for iterations in [0, 1, 3, 10] {
-            let options = SurfaceOptions { stitch: Stitch::Shape { iterations }, ..Default::default() };
-            let mut b = SurfaceBlender::register(rest.clone(), tris.clone(), options).unwrap();
-            if iterations == 0 {
-                // Keep the blended maps for the measure.
-                b.blended = vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); tris.len()];
-            }
-            b.add_pose(&twisted).unwrap();
-            b.blend(&[0.5]).unwrap();
-            energies.push(shape_energy(&b));
-        }
-        assert!(energies.windows(2).all(|w| w[1] < w[0]), "{energies:?}");
-        assert!(energies[3] < 0.5 * energies[0], "{energies:?}");
     }
 }

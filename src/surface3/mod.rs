@@ -28,6 +28,7 @@
 //! | `stitch3` | face mode: `E_T`, ghosts eliminated (cotangent stiffness matrix), translation, `E_S` | §6, eq. 4–5 |
 //! | `stitch_tets` | edge and vertex modes: `E_T` and `E_S` with the ghosts as unknowns | §6, eq. 4–5 |
 //! | `blender` | [`SurfaceBlender`] | §3 |
+//! | `energies3` | `E_T` and `E_S` from their definitions, with gradients: diagnostics | §6, eq. 4–5 |
 //! | `harmonic` | rest hat-function gradients, cotangent stiffness, the harmonic fields | \[H\] eq. 2–3, \[Z\] §3 |
 //! | `regularise3` | the energy's triangle and edge terms, plain and aligned operators | \[H\] eq. 6–10 |
 //! | `reduced` | a system with given (Dirichlet) vertices, factorised once | \[H\] eq. 11 |
@@ -70,6 +71,7 @@
 
 mod blender;
 mod deformer;
+mod energies3;
 mod ghosts;
 mod harmonic;
 mod kernel3;
@@ -87,6 +89,7 @@ mod unwrap3;
 
 pub use blender::{Stitch, SurfaceBlender, SurfaceOptions, SurfacePoseOptions};
 pub use deformer::{DeformOptions, SurfaceDeformer, DEFAULT_REGULARIZATION};
+pub use energies3::StitchEnergy;
 pub use mesh3::{Surface3, MAX_TRIANGLES, WELD_TOLERANCE};
 pub use quality3::{surface_quality, SurfaceQuality};
 pub use regions::MAX_SURFACE_HANDLES;

@@ -51,6 +51,13 @@ impl Logs3 {
         }
     }
 
+    /// Pose `k`'s `ω` and `log S` of triangle `t`, one triangle at a time (the energies').
+    pub(crate) fn triangle(&self, k: usize, t: usize) -> ([f64; 3], Sym) {
+        let record = &self.pose(k)[t / 4];
+        let x = |i: usize| record[4 * i + t % 4];
+        ([x(0), x(1), x(2)], [x(3), x(4), x(5), x(6), x(7), x(8)])
+    }
+
     /// Removes pose `k` (`k` < [`Logs3::len`]); the later ones move down.
     pub(crate) fn remove(&mut self, k: usize) {
         self.data.drain(k * self.quads..(k + 1) * self.quads);
