@@ -13,7 +13,7 @@
 import { readFileSync } from "node:fs";
 import { initSync, SurfaceBlender } from "../pkg/bunraku.js";
 import { machine } from "./_machine.mjs";
-import { median, ms } from "./_time.mjs";
+import { best, ms } from "./_time.mjs";
 import { bend, cylinder } from "../tests/node/_surface.mjs";
 
 initSync({ module: readFileSync(new URL("../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -22,11 +22,7 @@ const rounds = quick ? 3 : 7;
 const calls = quick ? 10 : 30;
 
 /** The fastest round's median of `calls` calls of `f`. */
-const best = (f) => {
-  const medians = [];
-  for (let r = 0; r < rounds; r++) medians.push(median(Array.from({ length: calls }, () => ms(f))));
-  return Math.min(...medians);
-};
+const fastest = (f) => best(f, rounds, calls);
 
 // 200 around × 99 rings + 2 poles = 20,002 vertices; 2 × 200 × 99 + 2 × 200 = 40,000 triangles.
 const [rest, tris] = cylinder(0.25, 3, 200, 99);
@@ -47,9 +43,9 @@ for (const [label, options] of [
   blender.addPose(poses[1]);
   const w = new Float64Array([0.3, 0.4]);
   const [out64, out32] = [new Float64Array(rest.length), new Float32Array(rest.length)];
-  const blend64 = best(() => blender.blendInto(w, out64));
-  const blend32 = best(() => blender.blendInto(w, out32));
-  const zero = best(() => blender.blendInto(new Float64Array(2), out64));
+  const blend64 = fastest(() => blender.blendInto(w, out64));
+  const blend32 = fastest(() => blender.blendInto(w, out32));
+  const zero = fastest(() => blender.blendInto(new Float64Array(2), out64));
   rows.push({ label, n: blender.vertexCount, t: blender.triangleCount, cold, register, add, blend64, blend32, zero });
   blender.free();
 }

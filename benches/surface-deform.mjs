@@ -13,7 +13,7 @@
 import { readFileSync } from "node:fs";
 import { initSync, SurfaceDeformer } from "../pkg/bunraku.js";
 import { machine } from "./_machine.mjs";
-import { median, ms } from "./_time.mjs";
+import { best, ms } from "./_time.mjs";
 import { cylinder, slab, turnAbout } from "../tests/node/_surface.mjs";
 
 initSync({ module: readFileSync(new URL("../pkg/bunraku_bg.wasm", import.meta.url)) });
@@ -22,11 +22,7 @@ const rounds = quick ? 3 : 7;
 const calls = quick ? 10 : 30;
 
 /** The fastest round's median of `calls` calls of `f`. */
-const best = (f) => {
-  const medians = [];
-  for (let r = 0; r < rounds; r++) medians.push(median(Array.from({ length: calls }, () => ms(f))));
-  return Math.min(...medians);
-};
+const fastest = (f) => best(f, rounds, calls);
 
 // 200 around × 99 rings + 2 poles = 20,002 vertices; 40,000 triangles.
 const [rest, tris] = cylinder(0.25, 3, 200, 99);
@@ -48,8 +44,8 @@ for (const [label, options] of [
   let k = 0;
   const move = () => turnAbout([1, 0, 0], 0.3 + 0.01 * (k++ % 50), [0, 0, 3], [0.1, 0, 0]);
   const matrices = Array.from({ length: 50 }, move);
-  const update64 = best(() => deformer.updateInto(matrices[k++ % 50], out64));
-  const update32 = best(() => deformer.updateInto(matrices[k++ % 50], out32));
+  const update64 = fastest(() => deformer.updateInto(matrices[k++ % 50], out64));
+  const update32 = fastest(() => deformer.updateInto(matrices[k++ % 50], out32));
   rows.push({ label, n: deformer.vertexCount, t: deformer.triangleCount, register, compile, update64, update32 });
   deformer.free();
 }
