@@ -1,12 +1,12 @@
 //! [`SurfaceBlender`]: Kaji's blending of 3D surface poses (see the [module
 //! documentation](super)).
 
-use super::kernel3::{exp_rotation, exp_sym, log_rotation, log_sym, mul, polar, Mat3};
+use super::kernel3::{exp_rotation, exp_sym, mul, polar, Mat3};
 use super::mesh3::{check_points, Surface3};
 use super::pass3::{blend_rhs, Logs3, Quads3};
 use super::stitch3::{Stitch3, Triple};
 use super::stitch_tets::TetStitch;
-use super::tetrise::{face_map, Tetrisation};
+use super::tetrise::{decompose, face_map, Tetrisation};
 use super::unwrap3::unwrap;
 use crate::blend::{MAX_ITERATIONS, MAX_REFERENCE_ANGLE, MAX_WEIGHT};
 use crate::error::{Error, Result};
@@ -233,28 +233,11 @@ impl SurfaceBlender {
             return Ok(self.push_shift(&welded));
         }
         let tris = self.surface.triangles();
-        let mut omega = Vec::with_capacity(tris.len());
-        let mut stretch = Vec::with_capacity(tris.len());
-        let (mut flipped, mut first) = (0, 0);
-        for (t, tri) in tris.iter().enumerate() {
+        let maps = tris.iter().zip(&self.stitch.rest_inverses).enumerate().map(|(t, (tri, inverse))| {
             let [a, b, c] = tri.map(|k| welded[k as usize]);
-            let map = face_map(&self.stitch.rest_inverses[t], a, b, c);
-            match polar(&map) {
-                Some((r, s)) => {
-                    omega.push(log_rotation(&r));
-                    stretch.push(log_sym(&s));
-                }
-                None => {
-                    if flipped == 0 {
-                        first = t;
-                    }
-                    flipped += 1;
-                }
-            }
-        }
-        if flipped > 0 {
-            return Err(Error::FlippedTriangles { count: flipped, first });
-        }
+            (t, face_map(inverse, a, b, c))
+        });
+        let (mut omega, stretch) = decompose(maps)?;
         unwrap(&self.surface, &mut omega, self.options.anchor.map(|a| a as usize), r);
         self.logs.push(&omega, &stretch);
         Ok(self.push_shift(&welded))

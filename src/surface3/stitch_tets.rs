@@ -17,10 +17,10 @@
 //!   solution's map (ghosts included) and solves again for `R_T S(C_T)`.
 
 use super::ghosts::{frame, Tets};
-use super::kernel3::{exp_rotation, exp_sym, inverse, log_rotation, log_sym, mul, polar, Mat3};
+use super::kernel3::{exp_rotation, exp_sym, inverse, mul, polar, Mat3};
 use super::mesh3::Surface3;
 use super::stitch3::{apply, Triple};
-use super::tetrise::Tetrisation;
+use super::tetrise::{decompose, Tetrisation};
 use super::unwrap3::walk;
 use crate::blend::pinned_factor;
 use crate::error::{Error, Result};
@@ -140,27 +140,10 @@ impl TetStitch {
         let tris = surface.triangles();
         let mut ghosts = Vec::new();
         self.tets.place_all(welded, tris, &mut ghosts);
-        let mut omega = Vec::with_capacity(self.len());
-        let mut stretch = Vec::with_capacity(self.len());
-        let (mut flipped, mut first) = (0, 0);
-        for (k, &(g, t)) in self.tets.tets.iter().enumerate() {
-            let map = mul(&frame(welded, tris[t as usize], ghosts[g as usize]), &self.rest_inverses[k]);
-            match polar(&map) {
-                Some((r, s)) => {
-                    omega.push(log_rotation(&r));
-                    stretch.push(log_sym(&s));
-                }
-                None => {
-                    if flipped == 0 {
-                        first = t as usize;
-                    }
-                    flipped += 1;
-                }
-            }
-        }
-        if flipped > 0 {
-            return Err(Error::FlippedTriangles { count: flipped, first });
-        }
+        let maps = self.tets.tets.iter().zip(&self.rest_inverses).map(|(&(g, t), inverse)| {
+            (t as usize, mul(&frame(welded, tris[t as usize], ghosts[g as usize]), inverse))
+        });
+        let (mut omega, stretch) = decompose(maps)?;
         let anchor = anchor.map(|a| self.first[a as usize] as usize);
         let (starts, adjacency) = (&self.starts, &self.adjacency);
         let neighbours = |t: usize| &adjacency[starts[t] as usize..starts[t + 1] as usize];

@@ -7,7 +7,8 @@
 //! Every pose gets its own ghosts by the same formula (§1.7 item 5), so a ghost follows
 //! its triangle's normal. The map of a pose is `Â = [b′−a′, c′−a′, g′−a′] [b−a, c−a, g−a]⁻¹`.
 
-use super::kernel3::{inverse, mul, Mat3};
+use super::kernel3::{inverse, log_rotation, log_sym, mul, polar, Mat3, Sym};
+use crate::error::{Error, Result};
 use crate::geometry::space::{cross, norm, sub};
 
 /// How the surface's triangles become tetrahedra (\[K\] §4).
@@ -49,4 +50,34 @@ pub(crate) fn rest_inverse(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Mat3
 /// (`rest_inverse`): with the pose's own ghost.
 pub(crate) fn face_map(rest_inverse: &Mat3, a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Mat3 {
     mul(&face_frame(a, b, c), rest_inverse)
+}
+
+/// A pose's tetrahedron maps, each with the triangle it stands on, split by polar
+/// decomposition into the rotation's principal axis–angle vector `ω` and the stretch's
+/// logarithm `log S` (\[K\] §5), one of each per map. Errors: [`Error::FlippedTriangles`]
+/// (the count of collapsed or inverted tetrahedra, `det Â ≤ 0`, and the triangle of the first).
+pub(crate) fn decompose(
+    maps: impl ExactSizeIterator<Item = (usize, Mat3)>,
+) -> Result<(Vec<[f64; 3]>, Vec<Sym>)> {
+    let mut omega = Vec::with_capacity(maps.len());
+    let mut stretch = Vec::with_capacity(maps.len());
+    let (mut flipped, mut first) = (0, 0);
+    for (t, map) in maps {
+        match polar(&map) {
+            Some((r, s)) => {
+                omega.push(log_rotation(&r));
+                stretch.push(log_sym(&s));
+            }
+            None => {
+                if flipped == 0 {
+                    first = t;
+                }
+                flipped += 1;
+            }
+        }
+    }
+    if flipped > 0 {
+        return Err(Error::FlippedTriangles { count: flipped, first });
+    }
+    Ok((omega, stretch))
 }
