@@ -275,6 +275,27 @@ fn adjacency(triangles: &[[u32; 3]]) -> Result<Adjacency> {
     Ok((count, adjacency, non_manifold))
 }
 
+/// A bumpy open sheet, 4 × 3 squares of two triangles, for the stitching modules' tests.
+#[cfg(test)]
+pub(crate) fn bumpy_sheet() -> Surface3 {
+    let mut v = Vec::new();
+    for i in 0..5 {
+        for j in 0..4 {
+            let (x, y) = (i as f64 * 0.3 + 0.07 * j as f64, j as f64 * 0.25);
+            v.push([x, y, 0.3 * (2.0 * x).sin() * (3.0 * y).cos()]);
+        }
+    }
+    let mut t = Vec::new();
+    for i in 0..4u32 {
+        for j in 0..3u32 {
+            let (a, b, c, d) = (i * 4 + j, (i + 1) * 4 + j, (i + 1) * 4 + j + 1, i * 4 + j + 1);
+            t.push([a, b, c]);
+            t.push([a, c, d]);
+        }
+    }
+    Surface3::new(v, t).unwrap()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -306,26 +306,8 @@ pub(crate) fn apply(m: &Mat3, u: [f64; 3]) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::surface3::kernel3::mul;
+    use crate::surface3::mesh3::bumpy_sheet;
     use crate::surface3::tetrise::face_frame;
-
-    fn sheet() -> Surface3 {
-        let mut v = Vec::new();
-        for i in 0..5 {
-            for j in 0..4 {
-                let (x, y) = (i as f64 * 0.3 + 0.07 * j as f64, j as f64 * 0.25);
-                v.push([x, y, 0.3 * (2.0 * x).sin() * (3.0 * y).cos()]);
-            }
-        }
-        let mut t = Vec::new();
-        for i in 0..4u32 {
-            for j in 0..3u32 {
-                let (a, b, c, d) = (i * 4 + j, (i + 1) * 4 + j, (i + 1) * 4 + j + 1, i * 4 + j + 1);
-                t.push([a, b, c]);
-                t.push([a, c, d]);
-            }
-        }
-        Surface3::new(v, t).unwrap()
-    }
 
     fn targets(count: usize) -> Vec<Mat3> {
         (0..count)
@@ -361,7 +343,7 @@ mod tests {
     #[allow(clippy::needless_range_loop)]
     fn finite_differences_check_the_eliminated_gradient() {
         // ∇E_T = 2 (K x − B) with the eliminated K and B, at a point that is no solution.
-        let surface = sheet();
+        let surface = bumpy_sheet();
         let stitch = Stitch3::new(&surface).unwrap();
         let c = targets(surface.triangles().len());
         let x: Vec<Triple> = surface
@@ -403,7 +385,7 @@ mod tests {
     fn the_recovered_ghost_is_optimal() {
         // With the ghost written out explicitly, moving it off the recovered position
         // only raises the tetrahedron's energy: its finite-difference gradient vanishes.
-        let surface = sheet();
+        let surface = bumpy_sheet();
         let stitch = Stitch3::new(&surface).unwrap();
         let c = targets(surface.triangles().len());
         let x: Vec<Triple> =

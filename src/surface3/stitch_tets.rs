@@ -275,33 +275,14 @@ fn face_adjacency(tets: &[(u32, u32)], tris: &[[u32; 3]], n: usize) -> (Vec<u32>
 mod tests {
     use super::*;
     use crate::surface3::ghosts::place;
-
-    /// A bumpy open sheet, 4 × 3 squares.
-    fn sheet() -> Surface3 {
-        let mut v = Vec::new();
-        for i in 0..5 {
-            for j in 0..4 {
-                let (x, y) = (i as f64 * 0.3 + 0.07 * j as f64, j as f64 * 0.25);
-                v.push([x, y, 0.3 * (2.0 * x).sin() * (3.0 * y).cos()]);
-            }
-        }
-        let mut t = Vec::new();
-        for i in 0..4u32 {
-            for j in 0..3u32 {
-                let (a, b, c, d) = (i * 4 + j, (i + 1) * 4 + j, (i + 1) * 4 + j + 1, i * 4 + j + 1);
-                t.push([a, b, c]);
-                t.push([a, c, d]);
-            }
-        }
-        Surface3::new(v, t).unwrap()
-    }
+    use crate::surface3::mesh3::bumpy_sheet;
 
     #[test]
     fn the_solve_minimises_the_weighted_tetrahedron_energy() {
         // E_T written out from the rest geometry (each tet's map from its rest frame, weight
         // = triangle area / tets on it) has a vanishing finite-difference gradient, ghosts
         // included, at the solution of K X = R for arbitrary targets.
-        let surface = sheet();
+        let surface = bumpy_sheet();
         let (p, tris) = (surface.vertices(), surface.triangles());
         let component = vec![0u32; p.len()];
         for mode in [Tetrisation::Edge, Tetrisation::Vertex] {
