@@ -1,6 +1,8 @@
-// 3D surfaces and their poses for the SurfaceBlender tests and benchmark
-// (tests/node/surface-blend.test.mjs, benches/surface-blend.mjs). The leading "_" keeps this
-// file out of the test runner's files.
+// 3D surfaces, their poses and the checks shared by the surface tests and benchmarks
+// (tests/node/surface-*.test.mjs, benches/surface-*.mjs). The leading "_" keeps this file out
+// of the test runner's files.
+
+import assert from "node:assert/strict";
 
 /** A capped cylinder of radius `r` along z from 0 to `length`: `segments` around, `rings`
  *  along; with `seam`, the column at angle 0 is duplicated (a uv seam, as glTF exports split
@@ -126,4 +128,22 @@ export const slab = (points, at, eps = 1e-9) => {
   const out = [];
   for (let i = 0; i < points.length / 3; i++) if (Math.abs(points[3 * i + 2] - at) <= eps) out.push(i);
   return new Uint32Array(out);
+};
+
+/** The largest distance between corresponding points of two position arrays. */
+export const maxDist = (a, b) => {
+  let d = 0;
+  for (let i = 0; i < a.length; i += 3) d = Math.max(d, Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]));
+  return d;
+};
+
+/** The Error `f` throws (asserting that it throws a real Error). */
+export const thrown = (f) => {
+  try {
+    f();
+  } catch (e) {
+    assert.ok(e instanceof Error, "a real Error");
+    return e;
+  }
+  assert.fail("did not throw");
 };

@@ -9,16 +9,11 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, SurfaceBlender } from "bunraku";
-import { bend, cylinder, mapped, twist, volume } from "./_surface.mjs";
+import { bend, cylinder, mapped, maxDist, thrown, twist, volume } from "./_surface.mjs";
 import * as playerEntry from "bunraku/player";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
-const maxDist = (a, b) => {
-  let d = 0;
-  for (let i = 0; i < a.length; i += 3) d = Math.max(d, Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]));
-  return d;
-};
 const diagonal = (p) => {
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
@@ -30,15 +25,6 @@ const centred = (p) => {
   const m = [0, 0, 0];
   for (let i = 0; i < p.length; i++) m[i % 3] += p[i] / (p.length / 3);
   return p.map((x, i) => x - m[i % 3]);
-};
-const codeOf = (f) => {
-  try {
-    f();
-  } catch (e) {
-    assert.ok(e instanceof Error, "a real Error");
-    return e;
-  }
-  assert.fail("did not throw");
 };
 
 test("zero weights give the rest and one-hot weights each pose, rigid and shape stitching", () => {
@@ -175,7 +161,7 @@ test("options and getters", () => {
     [{ anchor: -1 }, "anchor", /whole number/],
     [{ anchors: 1 }, "anchors", /./],
   ]) {
-    const e = codeOf(() => SurfaceBlender.register(rest, tris, options));
+    const e = thrown(() => SurfaceBlender.register(rest, tris, options));
     assert.equal(e.code, "bad-option", JSON.stringify(options));
     assert.equal(e.option, option, JSON.stringify(options));
     assert.match(e.message, words, e.message);
@@ -186,19 +172,19 @@ test("errors are coded, name the offending index, and leave the blender as it wa
   const [rest, tris] = cylinder(0.25, 3, 8, 6);
   const n = rest.length / 3;
   // register
-  let e = codeOf(() => SurfaceBlender.register(rest, Uint32Array.from(tris, (x, i) => (i === 7 ? n + 3 : x))));
+  let e = thrown(() => SurfaceBlender.register(rest, Uint32Array.from(tris, (x, i) => (i === 7 ? n + 3 : x))));
   assert.deepEqual([e.code, e.triangle], ["index-out-of-range", 2]);
-  e = codeOf(() => SurfaceBlender.register(rest.map((x, i) => (i === 10 ? NaN : x)), tris));
+  e = thrown(() => SurfaceBlender.register(rest.map((x, i) => (i === 10 ? NaN : x)), tris));
   assert.deepEqual([e.code, e.index, e.item], ["non-finite", 10, 3]);
-  e = codeOf(() => SurfaceBlender.register(rest.subarray(1), tris));
+  e = thrown(() => SurfaceBlender.register(rest.subarray(1), tris));
   assert.equal(e.code, "bad-length");
-  e = codeOf(() => SurfaceBlender.register([0, 0, 0], tris));
+  e = thrown(() => SurfaceBlender.register([0, 0, 0], tris));
   assert.deepEqual([e.code, e.argument], ["bad-type", "vertices3"]);
-  e = codeOf(() => SurfaceBlender.register(rest, Uint32Array.from(tris, (x, i) => (i === 3 ? tris[4] : i === 4 ? tris[3] : x))));
+  e = thrown(() => SurfaceBlender.register(rest, Uint32Array.from(tris, (x, i) => (i === 3 ? tris[4] : i === 4 ? tris[3] : x))));
   assert.equal(e.code, "inconsistent-orientation");
-  e = codeOf(() => SurfaceBlender.register(Float64Array.from([...rest, 9, 9, 9]), tris));
+  e = thrown(() => SurfaceBlender.register(Float64Array.from([...rest, 9, 9, 9]), tris));
   assert.deepEqual([e.code, e.vertex], ["unused-vertex", n]);
-  e = codeOf(() => SurfaceBlender.register(new Float64Array(), new Uint32Array()));
+  e = thrown(() => SurfaceBlender.register(new Float64Array(), new Uint32Array()));
   assert.equal(e.code, "empty-mesh");
 
   const b = SurfaceBlender.register(rest, tris);
@@ -210,59 +196,59 @@ test("errors are coded, name the offending index, and leave the blender as it wa
     assert.deepEqual(b.blend(new Float64Array([0.7])), before);
   };
   // addPose
-  e = codeOf(() => b.addPose(pose.subarray(3)));
+  e = thrown(() => b.addPose(pose.subarray(3)));
   assert.deepEqual([e.code, e.length, e.expected], ["bad-length", pose.length - 3, pose.length]);
   unchanged();
-  e = codeOf(() => b.addPose(pose.map((x, i) => (i === 14 ? Infinity : x))));
+  e = thrown(() => b.addPose(pose.map((x, i) => (i === 14 ? Infinity : x))));
   assert.deepEqual([e.code, e.index, e.item], ["non-finite", 14, 4]);
   unchanged();
-  e = codeOf(() => b.addPose(pose.map((x, i) => (i === 5 ? 1e101 : x))));
+  e = thrown(() => b.addPose(pose.map((x, i) => (i === 5 ? 1e101 : x))));
   assert.deepEqual([e.code, e.index, e.item], ["too-large", 5, 1]);
   unchanged();
   const collapsed = Float64Array.from(pose);
   const [a0, b0] = [3 * tris[0], 3 * tris[1]];
   collapsed.set(collapsed.subarray(a0, a0 + 3), b0);
-  e = codeOf(() => b.addPose(collapsed));
+  e = thrown(() => b.addPose(collapsed));
   assert.equal(e.code, "flipped-triangles");
   assert.equal(e.triangle, 0);
   unchanged();
-  e = codeOf(() => b.addPose(pose, { reference: [0, NaN, 0] }));
+  e = thrown(() => b.addPose(pose, { reference: [0, NaN, 0] }));
   assert.deepEqual([e.code, e.option], ["bad-option", "reference"]);
-  e = codeOf(() => b.addPose(pose, { reference: [0, 0, 2e6] }));
+  e = thrown(() => b.addPose(pose, { reference: [0, 0, 2e6] }));
   assert.deepEqual([e.code, e.option], ["bad-option", "reference"]);
-  e = codeOf(() => b.addPose(pose, { reference: [0, 0] }));
+  e = thrown(() => b.addPose(pose, { reference: [0, 0] }));
   assert.deepEqual([e.code, e.option], ["bad-option", "reference"]);
-  e = codeOf(() => b.addPose(pose, { near: 1 }));
+  e = thrown(() => b.addPose(pose, { near: 1 }));
   assert.equal(e.code, "bad-option");
-  e = codeOf(() => b.addPose([...pose]));
+  e = thrown(() => b.addPose([...pose]));
   assert.deepEqual([e.code, e.argument], ["bad-type", "positions3"]);
   unchanged();
   // blend, blendInto
-  e = codeOf(() => b.blend(new Float64Array([0.5, 0.5])));
+  e = thrown(() => b.blend(new Float64Array([0.5, 0.5])));
   assert.deepEqual([e.code, e.length, e.expected], ["bad-length", 2, 1]);
-  e = codeOf(() => b.blend(new Float64Array([NaN])));
+  e = thrown(() => b.blend(new Float64Array([NaN])));
   assert.deepEqual([e.code, e.index], ["non-finite", 0]);
-  e = codeOf(() => b.blend(new Float64Array([2e6])));
+  e = thrown(() => b.blend(new Float64Array([2e6])));
   assert.deepEqual([e.code, e.index], ["too-large", 0]);
-  e = codeOf(() => b.blend([0.5]));
+  e = thrown(() => b.blend([0.5]));
   assert.deepEqual([e.code, e.argument], ["bad-type", "weights"]);
   const out = new Float32Array(rest.length).fill(7);
-  e = codeOf(() => b.blendInto(new Float64Array([NaN]), out));
+  e = thrown(() => b.blendInto(new Float64Array([NaN]), out));
   assert.equal(e.code, "non-finite");
   assert.ok(out.every((x) => x === 7), "out is untouched");
-  e = codeOf(() => b.blendInto(new Float64Array([0.5]), new Float32Array(rest.length + 3)));
+  e = thrown(() => b.blendInto(new Float64Array([0.5]), new Float32Array(rest.length + 3)));
   assert.deepEqual([e.code, e.expected], ["bad-length", rest.length]);
-  e = codeOf(() => b.blendInto(new Float64Array([0.5]), new Float64Array(rest.length / 3 * 2)));
+  e = thrown(() => b.blendInto(new Float64Array([0.5]), new Float64Array(rest.length / 3 * 2)));
   assert.equal(e.code, "bad-length");
-  e = codeOf(() => b.blendInto(new Float64Array([0.5]), new Uint8Array(rest.length)));
+  e = thrown(() => b.blendInto(new Float64Array([0.5]), new Uint8Array(rest.length)));
   assert.deepEqual([e.code, e.argument], ["bad-type", "out"]);
   unchanged();
   // removePose
   for (const index of [1, -1, 0.5, NaN]) {
-    e = codeOf(() => b.removePose(index));
+    e = thrown(() => b.removePose(index));
     assert.equal(e.code, "bad-pose", String(index));
   }
-  e = codeOf(() => b.removePose("0"));
+  e = thrown(() => b.removePose("0"));
   assert.equal(e.code, "bad-type");
   unchanged();
   b.removePose(0);
@@ -278,9 +264,9 @@ test("SurfaceBlender is guarded, and in the full build only", () => {
   assert.equal(b.blend(new Float64Array([1])).length, rest.length);
   // A getter that throws while the arguments are read is an `unreadable` error, not an
   // object left borrowed.
-  const e = codeOf(() => b.addPose(rest, { get reference() { throw new Error("boom"); } }));
+  const e = thrown(() => b.addPose(rest, { get reference() { throw new Error("boom"); } }));
   assert.equal(e.code, "unreadable");
   assert.equal(b.poseCount, 1);
   b.free();
-  assert.equal(codeOf(() => b.poseCount).code, "freed");
+  assert.equal(thrown(() => b.poseCount).code, "freed");
 });

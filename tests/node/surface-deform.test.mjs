@@ -9,25 +9,11 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, SurfaceDeformer, surfaceQuality } from "bunraku";
-import { bar, slab, transformed, turnAbout } from "./_surface.mjs";
+import { bar, maxDist, slab, thrown, transformed, turnAbout } from "./_surface.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
 const IDENTITY = new Float64Array([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
-const maxDist = (a, b) => {
-  let d = 0;
-  for (let i = 0; i < a.length; i += 3) d = Math.max(d, Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]));
-  return d;
-};
-const thrown = (f) => {
-  try {
-    f();
-  } catch (e) {
-    assert.ok(e instanceof Error, "a real Error");
-    return e;
-  }
-  assert.fail("did not throw");
-};
 
 // 0.4 × 0.4 × 2 along z, squares of 0.1: 470 vertices before welding.
 const [rest, tris] = bar([0.4, 0.4, 2], [4, 4, 20]);

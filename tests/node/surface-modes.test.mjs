@@ -7,15 +7,10 @@ import { test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { initSync, SurfaceBlender } from "bunraku";
-import { bend, cylinder, mapped, twist, volume } from "./_surface.mjs";
+import { bend, cylinder, mapped, maxDist, twist, volume } from "./_surface.mjs";
 
 initSync({ module: readFileSync(new URL("../../pkg/bunraku_bg.wasm", import.meta.url)) });
 
-const maxDist = (a, b) => {
-  let d = 0;
-  for (let i = 0; i < a.length; i += 3) d = Math.max(d, Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]));
-  return d;
-};
 const MODES = ["face", "edge", "vertex"];
 
 test("zero and one-hot weights give the rest and each pose in every mode", () => {
