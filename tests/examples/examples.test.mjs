@@ -213,6 +213,27 @@ test("examples/node runs against the installed package", { timeout: 10 * MINUTE 
   assert.ok(!d0.data.equals(d1.data), "the demo's document animates");
 });
 
+/** Serves `dir`'s build with `vite preview` on a free port, waits until it answers, opens
+ *  Chromium and runs `use(browser, origin)`; closes both however it ends. */
+async function inVitePreview(dir, use) {
+  const port = await freePort();
+  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
+  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
+    cwd: dir,
+    stdio: ["ignore", "ignore", "inherit"],
+  });
+  const origin = `http://127.0.0.1:${port}`;
+  let browser;
+  try {
+    await answering(`${origin}/`, server);
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+    await use(browser, origin);
+  } finally {
+    await browser?.close();
+    server.kill();
+  }
+}
+
 /**
  * Resolves once `url` answers over HTTP; rejects when `child` exits first or after `ms`.
  * (Polling, not reading the server's banner: Vite colours it when `CI` is set, and its
@@ -271,40 +292,17 @@ test("examples/vite type-checks, builds and runs in Chromium: the drag page and 
   for (const file of ["index.html", "playback.html", "gingerbread.bunraku.json", "gingerbread.png"]) {
     assert.ok(built.includes(file), `dist/${file} is emitted (${built})`);
   }
-  const port = await freePort();
-  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
-  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
-    cwd: dir,
-    stdio: ["ignore", "ignore", "inherit"],
-  });
-  const origin = `http://127.0.0.1:${port}`;
-  let browser;
-  try {
-    await answering(`${origin}/`, server);
-    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+  await inVitePreview(dir, async (browser, origin) => {
     await t.test("the drag page", () => dragPage(browser, origin));
     await t.test("the playback page plays the document made in the demo", () => playbackPage(browser, origin, t));
-  } finally {
-    await browser?.close();
-    server.kill();
-  }
+  });
 });
 
 test("examples/three type-checks, builds and runs in Chromium with the real three package: a drag pins and poses the puppet, the document plays", { timeout: 10 * MINUTE }, async () => {
   const dir = install("three", [["assets", "assets"]]);
   run("npm", ["run", "build"], dir);
   assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
-  const port = await freePort();
-  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
-  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
-    cwd: dir,
-    stdio: ["ignore", "ignore", "inherit"],
-  });
-  const origin = `http://127.0.0.1:${port}`;
-  let browser;
-  try {
-    await answering(`${origin}/`, server);
-    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+  await inVitePreview(dir, async (browser, origin) => {
     const page = await browser.newPage({ viewport: { width: 900, height: 600 }, deviceScaleFactor: 1 });
     const problems = [];
     page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
@@ -333,10 +331,7 @@ test("examples/three type-checks, builds and runs in Chromium with the real thre
     const b = PNG.sync.read(await page.screenshot({ clip: right }));
     assert.ok(mismatch(a.data, b.data) > 0.002, "the document plays");
     assert.deepEqual(problems, []);
-  } finally {
-    await browser?.close();
-    server.kill();
-  }
+  });
 });
 
 test("examples/three-surfaces type-checks, builds and runs in Chromium: three.js's morph targets against SurfaceBlender on a glTF tail, seams closed, a drag with SurfaceDeformer, sliders at the frame rate", { timeout: 10 * MINUTE }, async (t) => {
@@ -344,22 +339,9 @@ test("examples/three-surfaces type-checks, builds and runs in Chromium: three.js
   run("npm", ["run", "build"], dir);
   assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
   assert.ok(readdirSync(join(dir, "dist")).includes("tail.glb"), "the model is served");
-  const port = await freePort();
-  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
-  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
-    cwd: dir,
-    stdio: ["ignore", "ignore", "inherit"],
-  });
-  const origin = `http://127.0.0.1:${port}`;
-  let browser;
-  try {
-    await answering(`${origin}/`, server);
-    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+  await inVitePreview(dir, async (browser, origin) => {
     await checkSurfacesPage(browser, `${origin}/`, t);
-  } finally {
-    await browser?.close();
-    server.kill();
-  }
+  });
 });
 
 async function dragPage(browser, origin) {
@@ -504,17 +486,7 @@ test("examples/pixi type-checks, builds and runs in Chromium: pointer pins drag 
   const dir = install("pixi", [["assets", "assets"]]);
   run("npm", ["run", "build"], dir);
   assert.ok(readdirSync(join(dir, "dist", "assets")).some((f) => f.endsWith(".wasm")), "the .wasm is emitted");
-  const port = await freePort();
-  const vite = join(dir, "node_modules", "vite", "bin", "vite.js");
-  const server = spawn(process.execPath, [vite, "preview", "--host", "127.0.0.1", "--port", String(port), "--strictPort"], {
-    cwd: dir,
-    stdio: ["ignore", "ignore", "inherit"],
-  });
-  const origin = `http://127.0.0.1:${port}`;
-  let browser;
-  try {
-    await answering(`${origin}/`, server);
-    browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS, timeout: MINUTE });
+  await inVitePreview(dir, async (browser, origin) => {
     const page = await browser.newPage({ viewport: { width: 1000, height: 800 } });
     const problems = [];
     page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
@@ -553,10 +525,7 @@ test("examples/pixi type-checks, builds and runs in Chromium: pointer pins drag 
     assert.ok(Number(after.time) !== t0, `the document plays: ${t0} s, then ${after.time} s`);
     assert.deepEqual(problems, []);
     await page.close();
-  } finally {
-    await browser?.close();
-    server.kill();
-  }
+  });
 });
 
 /** Builds the example `name` (`npm run build`: tsc, then the bundler) and checks its page,
